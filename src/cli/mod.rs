@@ -1,0 +1,112 @@
+//! Command-line front end: parses arguments, runs a command, reports. The library does
+//! the work; this module only wires files, progress and messages.
+
+pub mod args;
+
+use crate::output;
+use crate::scene::{DEFAULT_SCENE, Scene, material};
+use crate::sim::Simulation;
+use crate::summary::Summary;
+use anyhow::{Context, Result, bail};
+pub use args::{Cli, Command, InitArgs, RunArgs};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::Instant;
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Run(a) => run_scene(a),
+        Command::Init(a) => init(a),
+        Command::Materials => {
+            println!(
+                "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
+                "name", "E GPa", "nu", "kg/m^3", "yield MPa"
+            );
+            for m in material::LIBRARY {
+                let y = m
+                    .yield_strength_mpa
+                    .map_or("-".to_string(), |v| format!("{v}"));
+                println!(
+                    "{:<18} {:>8} {:>6} {:>9} {y:>10}  {}",
+                    m.name, m.youngs_modulus_gpa, m.poisson_ratio, m.density_kg_m3, m.note
+                );
+            }
+            Ok(())
+        }
+    }
+}
+
+fn init(a: InitArgs) -> Result<()> {
+    if a.path.as_os_str() == "-" {
+        print!("{DEFAULT_SCENE}");
+        return Ok(());
+    }
+    if a.path.exists() && !a.force {
+        bail!(
+            "{}: file exists; pass --force to overwrite it",
+            a.path.display()
+        );
+    }
+    output::write_atomic(&a.path, DEFAULT_SCENE.as_bytes())?;
+    eprintln!(
+        "wrote {} (the paper's Table 2 scene); run it with: peenflow run {}",
+        a.path.display(),
+        a.path.display()
+    );
+    Ok(())
+}
+
+fn run_scene(a: RunArgs) -> Result<()> {
+    let mut scene = match &a.scene {
+        Some(p) => Scene::load(p)?,
+        None => Scene::default_scene(),
+    };
+    if let Some(seed) = a.seed {
+        scene.seed = seed;
+    }
+    if let Some(n) = a.threads {
+        if n == 0 {
+            bail!("--threads 0: allowed 1 or more");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot set up the worker threads")?;
+    }
+    output::prepare_dir(&a.out, a.force)?;
+    let effects = scene.effects();
+    let sim = Simulation::new(&scene, &effects)?;
+    let bar = if a.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% (eta {eta})",
+            )
+            .expect("BUG: progress template"),
+        );
+        b
+    };
+    let started = Instant::now();
+    let out = sim.run(&|f| bar.set_position((f * 1000.0) as u64));
+    bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+    let summary = Summary::new(
+        &scene,
+        &effects.decisions,
+        &out,
+        wall,
+        rayon::current_num_threads(),
+    );
+    output::write_run(&a.out, &out.impacts, &out.shots, &summary)?;
+    if !a.quiet {
+        print!("{}", summary.text());
+        println!(
+            "wrote {}/impacts.csv, shots.csv, summary.json",
+            a.out.display()
+        );
+    }
+    Ok(())
+}

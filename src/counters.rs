@@ -1,0 +1,58 @@
+//! Work counters: how often each stage and effect ran. Reported in summary.json so a
+//! user (and the tests) can see that effects which are off cost nothing.
+
+use serde::Serialize;
+
+/// Per-run (or per-island, then summed) work counts. Plain integers, summed in a fixed
+/// order, so they are identical for any thread count.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct WorkCounters {
+    /// Accepted integrator steps, summed over islands (one island step moves all its shots).
+    pub steps_accepted: u64,
+    /// Rejected trial steps (error too large, or bisection trials when locating events).
+    pub steps_rejected: u64,
+    /// Shot-steps: accepted steps times the shots they moved.
+    pub shot_steps: u64,
+    /// Right-hand-side evaluations (one per Runge-Kutta stage, per island).
+    pub rhs_evaluations: u64,
+    /// Jet-field samples (one per shot per stage with drag or lateral force on).
+    pub flow_samples: u64,
+    /// Drag force evaluations.
+    pub drag_calls: u64,
+    /// Lateral (lift) force evaluations.
+    pub lateral_force_calls: u64,
+    /// Gravity evaluations.
+    pub gravity_calls: u64,
+    /// Shot-specimen contact tests.
+    pub specimen_contact_checks: u64,
+    /// Shot-nozzle-wall contact tests.
+    pub wall_contact_checks: u64,
+    /// Shot-shot pair tests in the narrow phase.
+    pub pair_contact_checks: u64,
+    /// Neighbour searches (cell-list builds) for shot-shot contact.
+    pub neighbour_searches: u64,
+    /// Jet-region border crossings located.
+    pub region_crossings: u64,
+    /// Contact onsets located (all kinds).
+    pub contact_onsets: u64,
+}
+
+impl WorkCounters {
+    /// Adds `other` into `self`.
+    pub fn add(&mut self, other: &WorkCounters) {
+        self.steps_accepted += other.steps_accepted;
+        self.steps_rejected += other.steps_rejected;
+        self.shot_steps += other.shot_steps;
+        self.rhs_evaluations += other.rhs_evaluations;
+        self.flow_samples += other.flow_samples;
+        self.drag_calls += other.drag_calls;
+        self.lateral_force_calls += other.lateral_force_calls;
+        self.gravity_calls += other.gravity_calls;
+        self.specimen_contact_checks += other.specimen_contact_checks;
+        self.wall_contact_checks += other.wall_contact_checks;
+        self.pair_contact_checks += other.pair_contact_checks;
+        self.neighbour_searches += other.neighbour_searches;
+        self.region_crossings += other.region_crossings;
+        self.contact_onsets += other.contact_onsets;
+    }
+}

@@ -1,0 +1,350 @@
+//! The paper's empirical free-jet field (Eqs 4-7, 9-11, 25-29) and its regions.
+//!
+//! Given a point, the field tells which region it lies in (nozzle bore, potential core,
+//! mixing layer, developed jet, still air), the air velocity and the air density there.
+//! The integrator freezes a shot's region for the length of one step and locates region
+//! crossings with [`JetField::margin`], because the field jumps at region borders
+//! (model-notes defect 4). Coordinates: `s` is the distance downstream of the nozzle exit
+//! along the jet axis (negative inside the bore), `r` the distance from the axis.
+
+use crate::Vec3;
+
+/// One of the jet's regions (model-notes table "Jet regions").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Region {
+    /// Inside the bore: `-l_n <= s < 0`, `r <= d/2`.
+    Nozzle,
+    /// Potential core: `0 <= s <= 5d`, `r <= (5d - s)/10`.
+    Core,
+    /// Mixing layer: `0 <= s <= 5d`, `(5d - s)/10 < r <= (5d + s)/10`.
+    Mixing,
+    /// Developed jet: `s > 5d`, `r <= s/5`.
+    Developed,
+    /// Still ambient air everywhere else.
+    Outside,
+}
+
+impl Region {
+    /// Short lower-case name, as used in messages and outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Region::Nozzle => "nozzle",
+            Region::Core => "core",
+            Region::Mixing => "mixing",
+            Region::Developed => "developed",
+            Region::Outside => "outside",
+        }
+    }
+}
+
+/// Which density laws the field uses (model-notes defects 1-3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JetModel {
+    /// The paper's laws: Eq 5 in the mixing layer (capped, see [`JetField::lip_density_cap`])
+    /// and Eq 7 in the developed region.
+    Paper,
+    /// Bounded densities relaxing from the core density to ambient: in the mixing layer
+    /// `rho_ab + (rho_c - rho_ab) u/u_i`, in the developed region
+    /// `rho_ab + (rho_c - rho_ab) (5d/s) exp(-94 (r/s)^2)`.
+    Consistent,
+}
+
+/// Air velocity and density at a point (one flow sample).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowSample {
+    /// Air velocity, m/s (world frame).
+    pub velocity: Vec3,
+    /// Air density, kg/m^3.
+    pub density: f64,
+    /// Jet coordinates of the point.
+    pub coords: JetCoords,
+}
+
+/// Position of a point in the nozzle frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JetCoords {
+    /// Distance downstream of the exit plane along the axis, m (negative in the bore).
+    pub s: f64,
+    /// Distance from the jet axis, m.
+    pub r: f64,
+    /// Unit vector from the axis towards the point, perpendicular to the axis (zero on it).
+    pub radial: Vec3,
+}
+
+/// The jet field of one nozzle. Built once per run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JetField {
+    /// Centre of the nozzle exit plane, m (world frame).
+    pub exit: Vec3,
+    /// Unit vector along the jet axis, pointing downstream.
+    pub axis: Vec3,
+    /// Bore diameter `d`, m.
+    pub bore: f64,
+    /// Bore (acceleration) length `l_n`, m.
+    pub length: f64,
+    /// Exit air velocity `u_i`, m/s.
+    pub exit_velocity: f64,
+    /// Density in the bore and potential core (Eq 12 `rho*` by default, or `rho_0`), kg/m^3.
+    pub rho_core: f64,
+    /// Nozzle-exit density `rho*` entering Eqs 5 and 7 (`rho_as` of the paper), kg/m^3.
+    pub rho_exit: f64,
+    /// Ambient density `rho_ab`, kg/m^3.
+    pub rho_ambient: f64,
+    /// Cap on the Eq 5 mixing density in the paper model (default: `rho_0`), kg/m^3.
+    /// Eq 5 diverges as `s -> 0`; no air in the jet can be denser than the stagnation air.
+    pub lip_density_cap: f64,
+    /// Density laws.
+    pub model: JetModel,
+}
+
+impl JetField {
+    /// Nozzle-frame coordinates of `pos`.
+    #[inline]
+    pub fn coords(&self, pos: &Vec3) -> JetCoords {
+        let rel = pos - self.exit;
+        let s = rel.dot(&self.axis);
+        let radial_vec = rel - self.axis * s;
+        let r = radial_vec.norm();
+        let radial = if r > 0.0 {
+            radial_vec / r
+        } else {
+            Vec3::zeros()
+        };
+        JetCoords { s, r, radial }
+    }
+
+    /// The region containing a point. Borders belong to the upstream / inner region:
+    /// the exit plane to the core, `s = 5d` to core or mixing, the core-mixing border to
+    /// the core, and each region's outer edge to that region.
+    pub fn region_of(&self, c: &JetCoords) -> Region {
+        let d = self.bore;
+        let (s, r) = (c.s, c.r);
+        if s < 0.0 {
+            if s >= -self.length && r <= 0.5 * d {
+                Region::Nozzle
+            } else {
+                Region::Outside
+            }
+        } else if s <= 5.0 * d {
+            if r <= (5.0 * d - s) / 10.0 {
+                Region::Core
+            } else if r <= (5.0 * d + s) / 10.0 {
+                Region::Mixing
+            } else {
+                Region::Outside
+            }
+        } else if r <= s / 5.0 {
+            Region::Developed
+        } else {
+            Region::Outside
+        }
+    }
+
+    /// Signed margin (m) of a point against leaving `region`: positive inside, zero on
+    /// its border, negative outside. Continuous in position, so a root finder can locate
+    /// the crossing. For [`Region::Outside`] it is the margin against entering any region.
+    pub fn margin(&self, c: &JetCoords, region: Region) -> f64 {
+        match region {
+            Region::Outside => {
+                let inside = [
+                    Region::Nozzle,
+                    Region::Core,
+                    Region::Mixing,
+                    Region::Developed,
+                ]
+                .iter()
+                .map(|&k| self.margin(c, k))
+                .fold(f64::NEG_INFINITY, f64::max);
+                -inside
+            }
+            _ => self.inner_margin(c, region),
+        }
+    }
+
+    fn inner_margin(&self, c: &JetCoords, region: Region) -> f64 {
+        let d = self.bore;
+        let (s, r) = (c.s, c.r);
+        match region {
+            // The bore's open end at the exit plane belongs to the core: margin -s.
+            Region::Nozzle => (s + self.length).min(-s).min(0.5 * d - r),
+            Region::Core => s.min(5.0 * d - s).min((5.0 * d - s) / 10.0 - r),
+            Region::Mixing => s
+                .min(5.0 * d - s)
+                .min(r - (5.0 * d - s) / 10.0)
+                .min((5.0 * d + s) / 10.0 - r),
+            Region::Developed => (s - 5.0 * d).min(s / 5.0 - r),
+            Region::Outside => unreachable!("BUG: outside margin handled by margin()"),
+        }
+    }
+
+    /// Air velocity and density at `pos`, using the laws of `region` (the shot's frozen
+    /// region for the current step; it may differ from [`Self::region_of`] by a round-off
+    /// amount at a located border crossing).
+    #[inline]
+    pub fn sample(&self, pos: &Vec3, region: Region) -> FlowSample {
+        let c = self.coords(pos);
+        let (u, density) = self.speed_density(&c, region);
+        FlowSample {
+            velocity: self.axis * u,
+            density,
+            coords: c,
+        }
+    }
+
+    /// Axial air speed (m/s, towards the specimen) and density (kg/m^3) by region.
+    pub fn speed_density(&self, c: &JetCoords, region: Region) -> (f64, f64) {
+        let d = self.bore;
+        let ui = self.exit_velocity;
+        // Regions downstream of the exit are only evaluated at s >= 0 (up to a located
+        // crossing); the floor keeps the 1/s laws finite at the lip (model-notes defect 2).
+        let s = c.s.max(1e-9 * d);
+        match region {
+            Region::Nozzle | Region::Core => (ui, self.rho_core),
+            Region::Mixing => {
+                // Eq 10 with |x| read as r: u_i at the core edge, 0 at the outer edge.
+                let u = 5.0 * ui / s * ((5.0 * d + s) / 10.0 - c.r);
+                let rho = match self.model {
+                    JetModel::Paper => {
+                        let q = 5.0 * d / s;
+                        (0.75 * self.rho_exit * (q * q - 1.0)).min(self.lip_density_cap)
+                    }
+                    JetModel::Consistent => {
+                        self.rho_ambient
+                            + (self.rho_core - self.rho_ambient) * (u / ui).clamp(0.0, 1.0)
+                    }
+                };
+                (u, rho)
+            }
+            Region::Developed => {
+                let q = c.r / s;
+                let shape = (-94.0 * q * q).exp();
+                let u = 6.0 * d * ui / s * shape; // Eq 11
+                let rho = match self.model {
+                    // Eq 7: rises from rho_ab at s = 5d towards rho* far downstream.
+                    JetModel::Paper => {
+                        self.rho_exit * (s - 5.0 * d) / s + self.rho_ambient * 5.0 * d / s
+                    }
+                    JetModel::Consistent => {
+                        self.rho_ambient
+                            + (self.rho_core - self.rho_ambient) * (5.0 * d / s) * shape
+                    }
+                };
+                (u, rho)
+            }
+            Region::Outside => (0.0, self.rho_ambient),
+        }
+    }
+
+    /// Largest air speed anywhere in the field, m/s (`1.2 u_i` at the start of the
+    /// developed region, Eq 11). Used for conservative reach bounds.
+    pub fn max_speed(&self) -> f64 {
+        1.2 * self.exit_velocity
+    }
+
+    /// Largest air density anywhere in the field, kg/m^3.
+    pub fn max_density(&self) -> f64 {
+        self.rho_core
+            .max(self.lip_density_cap)
+            .max(self.rho_exit)
+            .max(self.rho_ambient)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn paper_field(model: JetModel) -> JetField {
+        JetField {
+            exit: Vec3::new(0.0, 0.0, 0.1),
+            axis: Vec3::new(0.0, 0.0, -1.0),
+            bore: 6e-3,
+            length: 40e-3,
+            exit_velocity: 313.25,
+            rho_core: 5.3478,
+            rho_exit: 5.3478,
+            rho_ambient: 1.205,
+            lip_density_cap: 8.435,
+            model,
+        }
+    }
+
+    fn at(f: &JetField, s: f64, r: f64) -> JetCoords {
+        f.coords(&(f.exit + f.axis * s + Vec3::new(r, 0.0, 0.0)))
+    }
+
+    #[test]
+    fn regions_follow_model_notes_table() {
+        let f = paper_field(JetModel::Paper);
+        let d = f.bore;
+        assert_eq!(f.region_of(&at(&f, -0.02, 0.0)), Region::Nozzle);
+        assert_eq!(f.region_of(&at(&f, -0.02, 0.004)), Region::Outside);
+        assert_eq!(f.region_of(&at(&f, -0.05, 0.0)), Region::Outside);
+        assert_eq!(f.region_of(&at(&f, 0.0, 0.0)), Region::Core);
+        assert_eq!(f.region_of(&at(&f, 0.0, 0.5 * d)), Region::Core); // the lip
+        assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.25 * d)), Region::Core);
+        assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.4 * d)), Region::Mixing);
+        assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.8 * d)), Region::Outside);
+        assert_eq!(f.region_of(&at(&f, 5.0 * d, 0.0)), Region::Core);
+        assert_eq!(f.region_of(&at(&f, 6.0 * d, 1.0 * d)), Region::Developed);
+        assert_eq!(f.region_of(&at(&f, 6.0 * d, 1.3 * d)), Region::Outside);
+    }
+
+    #[test]
+    fn margins_vanish_on_borders_and_change_sign_across() {
+        let f = paper_field(JetModel::Paper);
+        let d = f.bore;
+        // Core/mixing border at s = 2d: r = 0.3 d.
+        let on = at(&f, 2.0 * d, 0.3 * d);
+        assert!(f.margin(&on, Region::Core).abs() < 1e-15);
+        assert!(f.margin(&at(&f, 2.0 * d, 0.31 * d), Region::Core) < 0.0);
+        assert!(f.margin(&at(&f, 2.0 * d, 0.31 * d), Region::Mixing) > 0.0);
+        // Outside margin is positive outside, negative once inside any region.
+        assert!(f.margin(&at(&f, 2.0 * d, 0.9 * d), Region::Outside) > 0.0);
+        assert!(f.margin(&at(&f, 2.0 * d, 0.6 * d), Region::Outside) < 0.0);
+        // Every region's own points have a non-negative margin.
+        for &(s, r) in &[(-0.01, 0.001), (0.01, 0.0), (0.02, 0.0025), (0.05, 0.003)] {
+            let c = at(&f, s, r);
+            assert!(f.margin(&c, f.region_of(&c)) >= 0.0, "s={s} r={r}");
+        }
+    }
+
+    #[test]
+    fn velocities_match_paper_equations() {
+        let f = paper_field(JetModel::Paper);
+        let d = f.bore;
+        let ui = f.exit_velocity;
+        // Mixing: u_i at the inner edge, 0 at the outer edge (Eq 10).
+        let s = 3.0 * d;
+        let (u_in, _) = f.speed_density(&at(&f, s, (5.0 * d - s) / 10.0), Region::Mixing);
+        let (u_out, _) = f.speed_density(&at(&f, s, (5.0 * d + s) / 10.0), Region::Mixing);
+        assert!((u_in - ui).abs() < 1e-9 && u_out.abs() < 1e-9);
+        // Developed on axis at s = 5d: 1.2 u_i (the jump of model-notes defect 4).
+        let (u_dev, rho_dev) = f.speed_density(&at(&f, 5.0 * d, 0.0), Region::Developed);
+        assert!((u_dev - 1.2 * ui).abs() < 1e-9);
+        // Eq 7 at s = 5d equals rho_ab.
+        assert!((rho_dev - f.rho_ambient).abs() < 1e-12);
+        // Eq 5 at s = 4 d: 0.75 rho* ((5/4)^2 - 1) (below the cap).
+        let (_, rho_mix) = f.speed_density(&at(&f, 4.0 * d, 0.3 * d), Region::Mixing);
+        assert!((rho_mix - 0.75 * f.rho_exit * (1.5625 - 1.0)).abs() < 1e-12);
+        // ... and capped at the lip.
+        let (_, rho_lip) = f.speed_density(&at(&f, 1e-6, 0.5 * d), Region::Mixing);
+        assert_eq!(rho_lip, f.lip_density_cap);
+    }
+
+    #[test]
+    fn consistent_densities_are_bounded_between_ambient_and_core() {
+        let f = paper_field(JetModel::Consistent);
+        let d = f.bore;
+        for i in 0..200 {
+            let s = 12.0 * d * (i as f64 + 0.5) / 200.0;
+            for j in 0..50 {
+                let r = 2.5 * d * j as f64 / 50.0;
+                let c = at(&f, s, r);
+                let region = f.region_of(&c);
+                let (_, rho) = f.speed_density(&c, region);
+                assert!(rho >= f.rho_ambient - 1e-12 && rho <= f.rho_core + 1e-12);
+            }
+        }
+    }
+}

@@ -1,0 +1,710 @@
+//! Island integrator: advances a group of shots that may touch each other ("island")
+//! over one synchronisation window `[t0, t1]` on a common clock.
+//!
+//! * Error control: Dormand-Prince 5(4); each shot's position error is scaled by
+//!   `tolerance x diameter`, its velocity error by `tolerance x (|v| + 1 m/s)`.
+//! * Jet regions: each shot's region is frozen for a step (the field jumps at borders,
+//!   model-notes defect 4). A step that ends outside the frozen region is cut back to the
+//!   crossing, located by a safeguarded Illinois root search on the region margin; the
+//!   shot then switches region.
+//! * Contacts: a step that ends with a new overlap is cut back to the located onset
+//!   (so the impact record carries the exact first-contact time and velocity). While in
+//!   contact steps are capped at `t_c / contact_steps` (Hertz duration `t_c`), and on
+//!   approach at `gap / closing speed + t_c / contact_steps`, so no contact is skipped or
+//!   entered deeply. Free flight is limited by the error controller alone.
+//!
+//! Reads shot states, writes them back, and appends impacts and run events.
+
+use crate::Vec3;
+use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
+use crate::counters::WorkCounters;
+use crate::forces::ForceSet;
+use crate::integrate::dopri::Dopri5;
+use crate::record::{Impact, RunEvent};
+use crate::state::{Domain, ShotState, ShotStatus};
+
+/// Everything the integrator needs that does not change during a run.
+#[derive(Debug, Clone)]
+pub struct Physics {
+    /// Enabled body forces (and the jet field they sample).
+    pub forces: ForceSet,
+    /// Enabled contacts.
+    pub contacts: ContactSet,
+    /// Relative error tolerance per step (default: `1e-6`).
+    pub tolerance: f64,
+    /// Minimum number of steps per Hertz contact duration (default: `50`).
+    pub contact_steps: f64,
+    /// Box outside which shots are dropped.
+    pub domain: Domain,
+    /// Largest step, s.
+    pub max_step: f64,
+}
+
+/// A shot-shot pair that may touch during the window (local member indices).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IslandPair {
+    /// First member (local index).
+    pub a: u32,
+    /// Second member (local index).
+    pub b: u32,
+    /// Whether the pair is in contact.
+    pub touching: bool,
+    /// Hertz duration estimate of the current contact, s.
+    pub contact_time: f64,
+}
+
+/// What an island produced during a window.
+#[derive(Debug, Default, Clone)]
+pub struct IslandOutput {
+    /// Located shot-specimen contact onsets.
+    pub impacts: Vec<Impact>,
+    /// Shots that had to be stopped.
+    pub events: Vec<RunEvent>,
+    /// Work counters.
+    pub work: WorkCounters,
+}
+
+/// Per-thread buffers reused across islands and windows (no allocation per step).
+#[derive(Debug, Clone)]
+pub struct Scratch {
+    dopri: Dopri5,
+    y: Vec<f64>,
+    y_new: Vec<f64>,
+    err: Vec<f64>,
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch {
+            dopri: Dopri5::new(0),
+            y: Vec::new(),
+            y_new: Vec::new(),
+            err: Vec::new(),
+        }
+    }
+}
+
+/// Smallest step (s) the error controller may ask for before the run declares the
+/// shot's integration failed.
+const MIN_STEP: f64 = 1e-15;
+/// Floor (m/s) of the closing speed used to estimate a contact's duration.
+const MIN_CONTACT_SPEED: f64 = 0.01;
+
+#[inline]
+fn pos(y: &[f64], i: usize) -> Vec3 {
+    Vec3::new(y[6 * i], y[6 * i + 1], y[6 * i + 2])
+}
+
+#[inline]
+fn vel(y: &[f64], i: usize) -> Vec3 {
+    Vec3::new(y[6 * i + 3], y[6 * i + 4], y[6 * i + 5])
+}
+
+#[inline]
+fn add_acc(dy: &mut [f64], i: usize, a: &Vec3) {
+    dy[6 * i + 3] += a.x;
+    dy[6 * i + 4] += a.y;
+    dy[6 * i + 5] += a.z;
+}
+
+/// Whether member `m` moves at time `t`.
+#[inline]
+fn moving(m: &ShotState, t: f64) -> bool {
+    m.status == ShotStatus::Active && t >= m.t_start
+}
+
+struct Ctx<'a> {
+    phys: &'a Physics,
+}
+
+impl Ctx<'_> {
+    /// Right-hand side: `dy = (v, a)` for every member.
+    fn rhs(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        work: &mut WorkCounters,
+    ) {
+        work.rhs_evaluations += 1;
+        let c = &self.phys.contacts;
+        for (i, m) in members.iter().enumerate() {
+            let d = &mut dy[6 * i..6 * i + 6];
+            if !moving(m, t) {
+                d.fill(0.0);
+                continue;
+            }
+            let p = pos(y, i);
+            let v = vel(y, i);
+            let mut a = self
+                .phys
+                .forces
+                .acceleration(&m.body, &p, &v, m.region, work);
+            if let Some(sp) = &c.specimen {
+                work.specimen_contact_checks += 1;
+                let gap = sp.gap(&p, m.body.radius);
+                if gap < 0.0 {
+                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let f = sp.law.force(k, m.body.mass, -gap, -v.z);
+                    a.z += f / m.body.mass;
+                }
+            }
+            if let Some(w) = &c.wall {
+                work.wall_contact_checks += 1;
+                if let Some(g) = w.geometry(&p, m.body.radius)
+                    && g.gap < 0.0
+                {
+                    let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                    let rate = v.dot(&g.outward);
+                    let f = w.law.force(k, m.body.mass, -g.gap, rate);
+                    a -= g.outward * (f / m.body.mass);
+                }
+            }
+            d[0] = v.x;
+            d[1] = v.y;
+            d[2] = v.z;
+            d[3] = a.x;
+            d[4] = a.y;
+            d[5] = a.z;
+        }
+        if let Some(pc) = &c.pair {
+            for pr in pairs {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if !moving(&members[i], t) || !moving(&members[j], t) {
+                    continue;
+                }
+                work.pair_contact_checks += 1;
+                let (mi, mj) = (&members[i].body, &members[j].body);
+                let dpos = pos(y, j) - pos(y, i);
+                let dist = dpos.norm();
+                let overlap = mi.radius + mj.radius - dist;
+                if overlap <= 0.0 || dist == 0.0 {
+                    continue;
+                }
+                let n = dpos / dist;
+                let rate = -(vel(y, j) - vel(y, i)).dot(&n);
+                let k = pc
+                    .law
+                    .stiffness(PairContact::effective_radius(mi.radius, mj.radius));
+                let f = pc
+                    .law
+                    .force(k, effective_mass(mi.mass, mj.mass), overlap, rate);
+                add_acc(dy, i, &(n * (-f / mi.mass)));
+                add_acc(dy, j, &(n * (f / mj.mass)));
+            }
+        }
+    }
+
+    /// Smallest margin (m) over the events that can still happen: leaving the frozen jet
+    /// region, and the onset of every contact not yet touching. Positive: none happened.
+    fn event_margin(&self, members: &[ShotState], pairs: &[IslandPair], t: f64, y: &[f64]) -> f64 {
+        let c = &self.phys.contacts;
+        let mut g = f64::INFINITY;
+        for (i, m) in members.iter().enumerate() {
+            if !moving(m, t) {
+                continue;
+            }
+            let p = pos(y, i);
+            if let Some(field) = &self.phys.forces.field {
+                g = g.min(field.margin(&field.coords(&p), m.region));
+            }
+            if let Some(sp) = &c.specimen
+                && !m.on_specimen
+            {
+                g = g.min(sp.gap(&p, m.body.radius));
+            }
+            if let Some(w) = &c.wall
+                && !m.on_wall
+                && let Some(geo) = w.geometry(&p, m.body.radius)
+            {
+                g = g.min(geo.gap);
+            }
+        }
+        if c.pair.is_some() {
+            for pr in pairs {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
+                    continue;
+                }
+                let gap = (pos(y, j) - pos(y, i)).norm()
+                    - members[i].body.radius
+                    - members[j].body.radius;
+                g = g.min(gap);
+            }
+        }
+        g
+    }
+
+    /// Applies every event whose margin is negative at `(t, y)`: region switches and
+    /// contact onsets (recording impacts). Returns whether anything changed.
+    fn apply_events(
+        &self,
+        members: &mut [ShotState],
+        pairs: &mut [IslandPair],
+        t: f64,
+        y: &[f64],
+        out: &mut IslandOutput,
+    ) -> bool {
+        let c = &self.phys.contacts;
+        let mut changed = false;
+        for (i, m) in members.iter_mut().enumerate() {
+            if !moving(m, t) {
+                continue;
+            }
+            let p = pos(y, i);
+            let v = vel(y, i);
+            if let Some(field) = &self.phys.forces.field {
+                let co = field.coords(&p);
+                if field.margin(&co, m.region) < 0.0 {
+                    let next = field.region_of(&co);
+                    if next != m.region {
+                        m.region = next;
+                        out.work.region_crossings += 1;
+                        changed = true;
+                    }
+                }
+            }
+            if let Some(sp) = &c.specimen
+                && !m.on_specimen
+                && sp.gap(&p, m.body.radius) < 0.0
+            {
+                m.on_specimen = true;
+                let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                m.specimen_contact_time =
+                    hertz::contact_time(m.body.mass, k, (-v.z).max(MIN_CONTACT_SPEED));
+                m.hits += 1;
+                if m.hits == 1 {
+                    m.steps_to_first_contact = Some(m.steps);
+                }
+                out.impacts.push(Impact::new(
+                    m.id.0,
+                    t,
+                    &p,
+                    &v,
+                    m.body.radius,
+                    m.body.mass,
+                    m.collisions,
+                    m.hits == 1,
+                ));
+                out.work.contact_onsets += 1;
+                changed = true;
+            }
+            if let Some(w) = &c.wall
+                && !m.on_wall
+                && let Some(geo) = w.geometry(&p, m.body.radius)
+                && geo.gap < 0.0
+            {
+                m.on_wall = true;
+                let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                let vn = v.dot(&geo.outward).max(MIN_CONTACT_SPEED);
+                m.wall_contact_time = hertz::contact_time(m.body.mass, k, vn);
+                m.wall_contacts += 1;
+                out.work.contact_onsets += 1;
+                changed = true;
+            }
+        }
+        if let Some(pc) = &c.pair {
+            for pr in pairs.iter_mut() {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
+                    continue;
+                }
+                let (bi, bj) = (members[i].body, members[j].body);
+                let dpos = pos(y, j) - pos(y, i);
+                let dist = dpos.norm();
+                if dist - bi.radius - bj.radius < 0.0 {
+                    pr.touching = true;
+                    let n = if dist > 0.0 { dpos / dist } else { Vec3::z() };
+                    let closing = -(vel(y, j) - vel(y, i)).dot(&n);
+                    let k = pc
+                        .law
+                        .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
+                    pr.contact_time = hertz::contact_time(
+                        effective_mass(bi.mass, bj.mass),
+                        k,
+                        closing.max(MIN_CONTACT_SPEED),
+                    );
+                    members[i].collisions += 1;
+                    members[j].collisions += 1;
+                    out.work.contact_onsets += 1;
+                    changed = true;
+                }
+            }
+        }
+        changed
+    }
+
+    /// Step cap (s) from contacts in progress and contacts being approached.
+    fn contact_cap(&self, members: &[ShotState], pairs: &[IslandPair], t: f64, y: &[f64]) -> f64 {
+        let c = &self.phys.contacts;
+        let n = self.phys.contact_steps;
+        let mut cap = f64::INFINITY;
+        // Approach: the step may end at most one contact-resolving step past the
+        // ballistic touching time, so a contact is neither skipped nor entered deeply.
+        let approach = |gap: f64, closing: f64, m_eff: f64, k: f64| -> f64 {
+            if closing <= 0.0 {
+                return f64::INFINITY;
+            }
+            gap.max(0.0) / closing + hertz::contact_time(m_eff, k, closing) / n
+        };
+        for (i, m) in members.iter().enumerate() {
+            if !moving(m, t) {
+                continue;
+            }
+            let p = pos(y, i);
+            let v = vel(y, i);
+            if let Some(sp) = &c.specimen {
+                if m.on_specimen {
+                    cap = cap.min(m.specimen_contact_time / n);
+                } else {
+                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    cap = cap.min(approach(sp.gap(&p, m.body.radius), -v.z, m.body.mass, k));
+                }
+            }
+            if let Some(w) = &c.wall {
+                if m.on_wall {
+                    cap = cap.min(m.wall_contact_time / n);
+                } else if let Some(geo) = w.geometry(&p, m.body.radius) {
+                    let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                    cap = cap.min(approach(geo.gap, v.dot(&geo.outward), m.body.mass, k));
+                }
+            }
+        }
+        if let Some(pc) = &c.pair {
+            for pr in pairs {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if !moving(&members[i], t) || !moving(&members[j], t) {
+                    continue;
+                }
+                if pr.touching {
+                    cap = cap.min(pr.contact_time / n);
+                    continue;
+                }
+                let (bi, bj) = (members[i].body, members[j].body);
+                let dpos = pos(y, j) - pos(y, i);
+                let dist = dpos.norm();
+                if dist == 0.0 {
+                    continue;
+                }
+                let nrm = dpos / dist;
+                let closing = -(vel(y, j) - vel(y, i)).dot(&nrm);
+                let k = pc
+                    .law
+                    .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
+                cap = cap.min(approach(
+                    dist - bi.radius - bj.radius,
+                    closing,
+                    effective_mass(bi.mass, bj.mass),
+                    k,
+                ));
+            }
+        }
+        cap
+    }
+
+    /// Separations: contacts whose overlap ended during the last step.
+    fn update_separations(&self, members: &mut [ShotState], pairs: &mut [IslandPair], y: &[f64]) {
+        let c = &self.phys.contacts;
+        for (i, m) in members.iter_mut().enumerate() {
+            let p = pos(y, i);
+            if m.on_specimen
+                && let Some(sp) = &c.specimen
+                && sp.gap(&p, m.body.radius) > 0.0
+            {
+                m.on_specimen = false;
+            }
+            if m.on_wall {
+                let apart = c
+                    .wall
+                    .and_then(|w| w.geometry(&p, m.body.radius))
+                    .is_none_or(|g| g.gap > 0.0);
+                if apart {
+                    m.on_wall = false;
+                }
+            }
+        }
+        for pr in pairs.iter_mut() {
+            if pr.touching {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                let gap = (pos(y, j) - pos(y, i)).norm()
+                    - members[i].body.radius
+                    - members[j].body.radius;
+                if gap > 0.0 {
+                    pr.touching = false;
+                }
+            }
+        }
+    }
+
+    /// Scaled error norm (max over moving members and components); `<= 1` is acceptable.
+    fn error_norm(&self, members: &[ShotState], t: f64, y: &[f64], err: &[f64]) -> f64 {
+        let tol = self.phys.tolerance;
+        let mut e: f64 = 0.0;
+        for (i, m) in members.iter().enumerate() {
+            if !moving(m, t) {
+                continue;
+            }
+            let sx = tol * 2.0 * m.body.radius;
+            let sv = tol * (vel(y, i).norm() + 1.0);
+            for k in 0..3 {
+                e = e.max(err[6 * i + k].abs() / sx);
+                e = e.max(err[6 * i + 3 + k].abs() / sv);
+            }
+        }
+        e
+    }
+}
+
+/// Advances the island's `members` (with candidate `pairs`) from `t0` to `t1`.
+pub fn advance(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    t0: f64,
+    t1: f64,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+) {
+    let ctx = Ctx { phys };
+    let n = members.len();
+    scratch.dopri.resize(6 * n);
+    scratch.y.resize(6 * n, 0.0);
+    scratch.y_new.resize(6 * n, 0.0);
+    scratch.err.resize(6 * n, 0.0);
+    for (i, m) in members.iter().enumerate() {
+        scratch.y[6 * i..6 * i + 3].copy_from_slice(m.pos.as_slice());
+        scratch.y[6 * i + 3..6 * i + 6].copy_from_slice(m.vel.as_slice());
+    }
+    let r_min = members
+        .iter()
+        .map(|m| m.body.radius)
+        .fold(f64::INFINITY, f64::min);
+    let tol_g = 1e-9 * r_min;
+    let mut t = t0;
+    let mut h_next = members
+        .iter()
+        .filter(|m| m.is_active())
+        .map(|m| if m.h_next > 0.0 { m.h_next } else { 1e-6 })
+        .fold(f64::INFINITY, f64::min);
+    let Scratch {
+        dopri,
+        y,
+        y_new,
+        err,
+    } = scratch;
+    dopri.invalidate();
+    let mut work = WorkCounters::default();
+
+    while t < t1 {
+        if !members.iter().any(|m| m.is_active()) {
+            break;
+        }
+        if ctx.apply_events(members, pairs, t, y, out) {
+            dopri.invalidate();
+        }
+        // Step size: controller proposal, window end, next shot entering, contact caps.
+        let h_wanted = h_next.min(phys.max_step);
+        let mut h = h_wanted;
+        let mut lands_at = None;
+        if t + h >= t1 {
+            h = t1 - t;
+            lands_at = Some(t1);
+        }
+        for m in members.iter() {
+            if m.is_active() && m.t_start > t && m.t_start < t + h {
+                h = m.t_start - t;
+                lands_at = Some(m.t_start);
+            }
+        }
+        if !members.iter().any(|m| moving(m, t)) {
+            // Nobody moves before the next shot enters: jump there.
+            t = lands_at.unwrap_or(t + h);
+            dopri.invalidate();
+            continue;
+        }
+        let cap = ctx.contact_cap(members, pairs, t, y);
+        if cap < h {
+            h = cap;
+            lands_at = None;
+        }
+        let g0 = ctx.event_margin(members, pairs, t, y);
+        // Trial steps until the error is acceptable.
+        let mut rejected = false;
+        let err_norm = loop {
+            dopri.step(
+                &mut |tt, yy: &[f64], dd: &mut [f64]| {
+                    ctx.rhs(members, pairs, tt, yy, dd, &mut work)
+                },
+                t,
+                y,
+                h,
+                y_new,
+                err,
+            );
+            let finite = y_new.iter().all(|v| v.is_finite());
+            let e = if finite {
+                ctx.error_norm(members, t, y, err)
+            } else {
+                f64::INFINITY
+            };
+            if e <= 1.0 {
+                break e;
+            }
+            work.steps_rejected += 1;
+            rejected = true;
+            h *= if e.is_finite() {
+                (0.9 * e.powf(-0.2)).max(0.2)
+            } else {
+                0.25
+            };
+            lands_at = None;
+            if h < MIN_STEP {
+                break f64::NAN;
+            }
+        };
+        if err_norm.is_nan() {
+            fail_island(members, t, y, out, "the step size collapsed below 1e-15 s");
+            break;
+        }
+        // Events inside the step: cut the step back to the first one.
+        let g1 = ctx.event_margin(members, pairs, t + h, y_new);
+        if g1 < 0.0 {
+            lands_at = None;
+            let (mut a, mut ga) = (0.0, g0.max(0.0));
+            let (mut b, mut gb) = (h, g1);
+            let mut side = 0i8;
+            for _ in 0..200 {
+                if gb > -tol_g || b - a <= 1e-13 * b {
+                    break;
+                }
+                let mut c = b - gb * (b - a) / (gb - ga);
+                let guard = 1e-3 * (b - a);
+                if !(c > a + guard && c < b - guard) {
+                    c = 0.5 * (a + b);
+                }
+                dopri.step(
+                    &mut |tt, yy: &[f64], dd: &mut [f64]| {
+                        ctx.rhs(members, pairs, tt, yy, dd, &mut work)
+                    },
+                    t,
+                    y,
+                    c,
+                    y_new,
+                    err,
+                );
+                work.steps_rejected += 1;
+                let gc = ctx.event_margin(members, pairs, t + c, y_new);
+                if gc < 0.0 {
+                    b = c;
+                    gb = gc;
+                    if side == -1 {
+                        ga *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    a = c;
+                    ga = gc;
+                    if side == 1 {
+                        gb *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            if b != h {
+                h = b;
+                dopri.step(
+                    &mut |tt, yy: &[f64], dd: &mut [f64]| {
+                        ctx.rhs(members, pairs, tt, yy, dd, &mut work)
+                    },
+                    t,
+                    y,
+                    h,
+                    y_new,
+                    err,
+                );
+            }
+        }
+        // Accept.
+        for m in members.iter_mut() {
+            if moving(m, t) {
+                m.steps += 1;
+                work.shot_steps += 1;
+                if m.on_specimen && m.hits == 1 {
+                    m.first_contact_steps += 1;
+                }
+            }
+        }
+        work.steps_accepted += 1;
+        std::mem::swap(y, y_new);
+        let t_prev = t;
+        t = lands_at.unwrap_or(t + h);
+        dopri.accept_fsal();
+        if members
+            .iter()
+            .any(|m| m.is_active() && m.t_start > t_prev && m.t_start <= t)
+        {
+            dopri.invalidate(); // a shot entered: the right-hand side changed
+        }
+        let controller = h * if err_norm > 0.0 {
+            (0.9 * err_norm.powf(-0.2)).clamp(0.2, 5.0)
+        } else {
+            5.0
+        };
+        // A step shortened by a clamp, a cap or an event says nothing against the
+        // controller's earlier proposal; a rejected one does.
+        h_next = if rejected || h >= h_wanted {
+            controller
+        } else {
+            controller.max(h_wanted)
+        };
+        ctx.update_separations(members, pairs, y);
+        for (i, m) in members.iter_mut().enumerate() {
+            if m.is_active() && t >= m.t_start && !phys.domain.contains(&pos(y, i)) {
+                m.status = ShotStatus::LeftDomain;
+                m.t_stop = Some(t);
+                m.pos = pos(y, i);
+                m.vel = vel(y, i);
+                dopri.invalidate();
+            }
+        }
+    }
+    for (i, m) in members.iter_mut().enumerate() {
+        if m.is_active() {
+            m.pos = pos(y, i);
+            m.vel = vel(y, i);
+            m.h_next = h_next;
+        }
+    }
+    out.work.add(&work);
+}
+
+fn fail_island(members: &mut [ShotState], t: f64, y: &[f64], out: &mut IslandOutput, cause: &str) {
+    for (i, m) in members.iter_mut().enumerate() {
+        if std::env::var_os("PEENFLOW_DEBUG").is_some() {
+            eprintln!(
+                "fail t={t} shot {} pos {:?} vel {:?} region {:?} spec {} wall {} tc {}",
+                m.id.0,
+                pos(y, i),
+                vel(y, i),
+                m.region,
+                m.on_specimen,
+                m.on_wall,
+                m.specimen_contact_time
+            );
+        }
+        if moving(m, t) {
+            m.status = ShotStatus::Failed;
+            m.t_stop = Some(t);
+            m.pos = pos(y, i);
+            m.vel = vel(y, i);
+            out.events.push(RunEvent {
+                shot: m.id.0,
+                time_s: t,
+                cause: cause.to_string(),
+                suggestion: "loosen [integrator] tolerance or check the materials' moduli and the shot sizes".into(),
+            });
+        }
+    }
+}

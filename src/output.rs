@@ -1,0 +1,216 @@
+//! Output files of a run: impacts.csv, shots.csv and summary.json, each written under a
+//! temporary name and renamed when complete, so a killed run never leaves a truncated file.
+
+use crate::record::Impact;
+use crate::state::ShotState;
+use crate::summary::Summary;
+use serde::Serialize;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Output errors.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// The output directory exists and holds files.
+    #[error(
+        "{path}: output directory exists and is not empty; pass --force to overwrite its files or choose another --out"
+    )]
+    Exists {
+        /// Directory.
+        path: String,
+    },
+    /// The output path exists and is not a directory.
+    #[error("{path}: exists and is not a directory; choose another --out")]
+    NotADirectory {
+        /// Path.
+        path: String,
+    },
+    /// Creating or writing failed.
+    #[error("{path}: cannot write: {source}")]
+    Io {
+        /// File or directory.
+        path: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// CSV serialisation failed.
+    #[error("{path}: cannot write CSV: {source}")]
+    Csv {
+        /// File.
+        path: String,
+        /// Cause.
+        source: csv::Error,
+    },
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Makes sure `dir` can take a run's outputs: created if missing, refused if it holds
+/// files and `force` is not set. Call before the run starts.
+pub fn prepare_dir(dir: &Path, force: bool) -> Result<(), OutputError> {
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(OutputError::NotADirectory {
+                path: dir.display().to_string(),
+            });
+        }
+        let non_empty = fs::read_dir(dir).map_err(io(dir))?.next().is_some();
+        if non_empty && !force {
+            return Err(OutputError::Exists {
+                path: dir.display().to_string(),
+            });
+        }
+    } else {
+        fs::create_dir_all(dir).map_err(io(dir))?;
+    }
+    // Probe writability now rather than after a long run.
+    let probe = dir.join(".peenflow-write-test");
+    fs::write(&probe, b"").map_err(io(dir))?;
+    let _ = fs::remove_file(&probe);
+    Ok(())
+}
+
+/// Writes `bytes` to `path` atomically (temporary file in the same directory, then rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    let tmp = temp_name(path);
+    let result = (|| {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map_err(io(path))
+}
+
+fn temp_name(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.tmp"))
+}
+
+fn csv_bytes<T: Serialize>(
+    path: &Path,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<Vec<u8>, OutputError> {
+    let err = |source| OutputError::Csv {
+        path: path.display().to_string(),
+        source,
+    };
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r).map_err(err)?;
+    }
+    w.into_inner().map_err(|e| OutputError::Io {
+        path: path.display().to_string(),
+        source: e.into_error(),
+    })
+}
+
+/// impacts.csv: one row per shot-specimen contact (see [`Impact`] for the columns).
+pub fn impacts_csv(impacts: &[Impact], path: &Path) -> Result<Vec<u8>, OutputError> {
+    if impacts.is_empty() {
+        // Header only: serde writes headers with the first row.
+        return Ok(IMPACT_HEADER.as_bytes().to_vec());
+    }
+    csv_bytes(path, impacts)
+}
+
+/// Header of impacts.csv.
+pub const IMPACT_HEADER: &str = "shot,time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,normal_speed_m_s,angle_deg,diameter_m,first_hit,tangential_speed_m_s,center_x_m,center_y_m,center_z_m,mass_kg,kinetic_energy_j,collisions_before\n";
+
+/// One row of shots.csv: a shot's final state and history.
+#[derive(Debug, Serialize)]
+pub struct ShotRow {
+    /// Shot id.
+    pub shot: u32,
+    /// active / left_domain / failed.
+    pub status: crate::state::ShotStatus,
+    /// Entry time, s.
+    pub t_start_s: f64,
+    /// Time the shot was stopped, s (empty if it ran to the end).
+    pub t_stop_s: Option<f64>,
+    /// Specimen contacts.
+    pub hits: u32,
+    /// Shot-shot contacts.
+    pub collisions: u32,
+    /// Wall contacts.
+    pub wall_contacts: u32,
+    /// Final centre x, m.
+    pub x_m: f64,
+    /// Final centre y, m.
+    pub y_m: f64,
+    /// Final centre z, m.
+    pub z_m: f64,
+    /// Final velocity x, m/s.
+    pub vx_m_s: f64,
+    /// Final velocity y, m/s.
+    pub vy_m_s: f64,
+    /// Final velocity z, m/s.
+    pub vz_m_s: f64,
+    /// Final speed, m/s.
+    pub speed_m_s: f64,
+    /// Diameter, m.
+    pub diameter_m: f64,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Steps to the first specimen contact (empty if none).
+    pub steps_to_first_contact: Option<u64>,
+    /// Steps during the first specimen contact.
+    pub first_contact_steps: u64,
+}
+
+impl From<&ShotState> for ShotRow {
+    fn from(s: &ShotState) -> Self {
+        ShotRow {
+            shot: s.id.0,
+            status: s.status,
+            t_start_s: s.t_start,
+            t_stop_s: s.t_stop,
+            hits: s.hits,
+            collisions: s.collisions,
+            wall_contacts: s.wall_contacts,
+            x_m: s.pos.x,
+            y_m: s.pos.y,
+            z_m: s.pos.z,
+            vx_m_s: s.vel.x,
+            vy_m_s: s.vel.y,
+            vz_m_s: s.vel.z,
+            speed_m_s: s.vel.norm(),
+            diameter_m: 2.0 * s.body.radius,
+            steps: s.steps,
+            steps_to_first_contact: s.steps_to_first_contact,
+            first_contact_steps: s.first_contact_steps,
+        }
+    }
+}
+
+/// Writes impacts.csv, shots.csv and summary.json into `dir`.
+pub fn write_run(
+    dir: &Path,
+    impacts: &[Impact],
+    shots: &[ShotState],
+    summary: &Summary,
+) -> Result<(), OutputError> {
+    let p = dir.join("impacts.csv");
+    write_atomic(&p, &impacts_csv(impacts, &p)?)?;
+    let p = dir.join("shots.csv");
+    write_atomic(&p, &csv_bytes(&p, shots.iter().map(ShotRow::from))?)?;
+    let p = dir.join("summary.json");
+    let mut json = serde_json::to_vec_pretty(summary).expect("BUG: summary serialises");
+    json.push(b'\n');
+    write_atomic(&p, &json)?;
+    Ok(())
+}

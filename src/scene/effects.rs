@@ -1,0 +1,193 @@
+//! `[effects]`: which physical effects a run includes. Each is `true`, `false` or
+//! `"auto"`; `effects = "auto"` sets all to auto. Auto decides from the scene, and the
+//! run reports every decision with its reason.
+
+use super::error::SceneError;
+use super::validate::did_you_mean;
+use super::{Feed, Scene};
+use serde::Serialize;
+
+/// One effect's setting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Switch {
+    /// Always on.
+    On,
+    /// Always off.
+    Off,
+    /// Decided from the scene.
+    Auto,
+}
+
+/// The six effects, in report order.
+pub const EFFECT_NAMES: [&str; 6] = [
+    "drag",
+    "lateral_force",
+    "gravity",
+    "specimen_contact",
+    "shot_shot_contact",
+    "nozzle_wall_contact",
+];
+
+/// The settings as written (all `Auto` when `[effects]` is absent).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EffectRequest {
+    /// Per effect, in [`EFFECT_NAMES`] order.
+    pub switches: [Switch; 6],
+}
+
+impl EffectRequest {
+    /// Parses the `effects` value of a scene file.
+    pub fn from_value(v: Option<&toml::Value>, path: &str) -> Result<Self, SceneError> {
+        let mut switches = [Switch::Auto; 6];
+        let bad = |key: &str, message: String| SceneError::Invalid {
+            path: path.to_string(),
+            key: key.to_string(),
+            message,
+        };
+        match v {
+            None => {}
+            Some(toml::Value::String(s)) if s == "auto" => {}
+            Some(toml::Value::String(s)) => {
+                return Err(bad(
+                    "effects",
+                    format!(
+                        "unknown value \"{s}\"; allowed: \"auto\" or a table [effects] with keys {}",
+                        EFFECT_NAMES.join(", ")
+                    ),
+                ));
+            }
+            Some(toml::Value::Table(t)) => {
+                for (k, val) in t {
+                    let Some(i) = EFFECT_NAMES.iter().position(|n| n == k) else {
+                        let hint = did_you_mean(k, EFFECT_NAMES.iter().copied())
+                            .map(|s| format!("did you mean `{s}`? "))
+                            .unwrap_or_default();
+                        return Err(bad(
+                            &format!("effects.{k}"),
+                            format!("unknown effect; {hint}allowed: {}", EFFECT_NAMES.join(", ")),
+                        ));
+                    };
+                    switches[i] = match val {
+                        toml::Value::Boolean(true) => Switch::On,
+                        toml::Value::Boolean(false) => Switch::Off,
+                        toml::Value::String(s) if s == "auto" => Switch::Auto,
+                        other => {
+                            return Err(bad(
+                                &format!("effects.{k}"),
+                                format!("got {other}; allowed: true, false or \"auto\""),
+                            ));
+                        }
+                    };
+                }
+            }
+            Some(other) => {
+                return Err(bad(
+                    "effects",
+                    format!("got {other}; allowed: \"auto\" or a table"),
+                ));
+            }
+        }
+        Ok(EffectRequest { switches })
+    }
+}
+
+/// One effect's final state and why.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct EffectDecision {
+    /// Effect name.
+    pub name: &'static str,
+    /// Whether it runs.
+    pub on: bool,
+    /// Why (the scene said so, or what auto saw).
+    pub reason: String,
+}
+
+/// The resolved effects of a scene.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Effects {
+    /// Drag.
+    pub drag: bool,
+    /// Lateral jet force.
+    pub lateral_force: bool,
+    /// Gravity.
+    pub gravity: bool,
+    /// Shot-specimen contact.
+    pub specimen_contact: bool,
+    /// Shot-shot contact.
+    pub shot_shot_contact: bool,
+    /// Shot-nozzle-wall contact.
+    pub nozzle_wall_contact: bool,
+    /// Every decision with its reason, in [`EFFECT_NAMES`] order.
+    pub decisions: Vec<EffectDecision>,
+}
+
+impl Scene {
+    /// Resolves `auto` effects from the scene.
+    pub fn effects(&self) -> Effects {
+        let count = self.feed.expected_count();
+        let in_bore = match &self.feed {
+            Feed::Batch { .. } | Feed::Stream { .. } => true,
+            Feed::List(list) => list.iter().any(|s| {
+                let z0 = self.nozzle.standoff;
+                let r = (s.position.x.powi(2) + s.position.y.powi(2)).sqrt();
+                s.position.z >= z0
+                    && s.position.z <= z0 + self.nozzle.length
+                    && r < 0.5 * self.nozzle.bore
+            }),
+        };
+        let auto: [(bool, String); 6] = [
+            (true, "auto: shots fly through the air jet".into()),
+            (
+                self.jet.lift_coefficient > 0.0 && self.jet.divergence_tan > 0.0,
+                if self.jet.lift_coefficient > 0.0 && self.jet.divergence_tan > 0.0 {
+                    "auto: the jet diverges (jet.lift_coefficient > 0)".into()
+                } else {
+                    "auto: jet.lift_coefficient or jet.divergence_tan is zero".into()
+                },
+            ),
+            (
+                self.gravity > 0.0,
+                if self.gravity > 0.0 {
+                    "auto: gravity_m_s2 > 0".into()
+                } else {
+                    "auto: gravity_m_s2 = 0".into()
+                },
+            ),
+            (true, "auto: the specimen is in every scene".into()),
+            (
+                count > 1.0,
+                if count > 1.0 {
+                    format!("auto: {} shots can meet", count.round())
+                } else {
+                    "auto: only one shot".into()
+                },
+            ),
+            (
+                in_bore,
+                if in_bore {
+                    "auto: shots start inside the bore".into()
+                } else {
+                    "auto: no shot starts inside the bore".into()
+                },
+            ),
+        ];
+        let mut decisions = Vec::new();
+        for (i, name) in EFFECT_NAMES.iter().enumerate() {
+            let (on, reason) = match self.effects.switches[i] {
+                Switch::On => (true, "on in the scene".to_string()),
+                Switch::Off => (false, "off in the scene".to_string()),
+                Switch::Auto => auto[i].clone(),
+            };
+            decisions.push(EffectDecision { name, on, reason });
+        }
+        Effects {
+            drag: decisions[0].on,
+            lateral_force: decisions[1].on,
+            gravity: decisions[2].on,
+            specimen_contact: decisions[3].on,
+            shot_shot_contact: decisions[4].on,
+            nozzle_wall_contact: decisions[5].on,
+            decisions,
+        }
+    }
+}

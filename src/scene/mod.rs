@@ -1,0 +1,395 @@
+//! Scene stage: reading a TOML scene, checking it, and turning it into SI values.
+//!
+//! `file.rs` mirrors the file (`SceneFile`), `validate.rs` checks it and builds [`Scene`],
+//! `effects.rs` resolves which effects run, `material.rs` holds the material library.
+//! The paper's Table 2 scene is embedded ([`DEFAULT_SCENE`]) and is what `peenflow run`
+//! runs without a file and what `peenflow init` writes.
+
+pub mod effects;
+pub mod error;
+pub mod file;
+pub mod material;
+pub mod validate;
+
+pub use effects::{EffectDecision, EffectRequest, Effects, Switch};
+pub use error::SceneError;
+pub use file::SceneFile;
+pub use material::Material;
+
+use crate::Vec3;
+use crate::flow::{AirState, JetModel};
+use crate::state::Domain;
+
+/// The paper's Table 2 scene, commented: the default scene.
+pub const DEFAULT_SCENE: &str = include_str!("default_scene.toml");
+
+/// Air-supply inputs, SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AirInputs {
+    /// Gauge pressure `P`, Pa.
+    pub gauge_pressure: f64,
+    /// Ambient pressure `P_b`, Pa.
+    pub ambient_pressure: f64,
+    /// Temperature, K.
+    pub temperature: f64,
+    /// Ratio of specific heats.
+    pub kappa: f64,
+    /// Specific gas constant, J/(kg K).
+    pub gas_constant: f64,
+    /// Ambient density, kg/m^3.
+    pub ambient_density: f64,
+}
+
+/// Nozzle geometry, m. The nozzle exit is at height `standoff` above the specimen,
+/// the inlet at `standoff + length`, the jet axis is the world z axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NozzleGeometry {
+    /// Bore diameter `d`, m.
+    pub bore: f64,
+    /// Bore length `l_n`, m.
+    pub length: f64,
+    /// Stand-off `l`, m.
+    pub standoff: f64,
+}
+
+/// Which density fills the bore and the potential core (model-notes defect 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoreDensity {
+    /// `rho*` (Eq 12): the default.
+    RhoStar,
+    /// `rho_0` (Eq 4).
+    Rho0,
+}
+
+/// Jet-model settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JetSettings {
+    /// Density laws.
+    pub model: JetModel,
+    /// Core density choice.
+    pub core_density: CoreDensity,
+    /// Cap of the Eq 5 density, kg/m^3.
+    pub lip_density_cap: f64,
+    /// `C_D`.
+    pub drag_coefficient: f64,
+    /// `C_L`.
+    pub lift_coefficient: f64,
+    /// `tan(alpha)`.
+    pub divergence_tan: f64,
+}
+
+/// Shot diameters, m.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SizeDistribution {
+    /// Every shot alike.
+    Fixed(f64),
+    /// Truncated normal.
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation.
+        std: f64,
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// Uniform.
+    Uniform {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// Discrete sizes with number weights.
+    Discrete {
+        /// Diameters.
+        diameters: Vec<f64>,
+        /// Weights.
+        weights: Vec<f64>,
+    },
+}
+
+impl SizeDistribution {
+    /// Largest possible diameter, m.
+    pub fn max_diameter(&self) -> f64 {
+        match self {
+            SizeDistribution::Fixed(d) => *d,
+            SizeDistribution::Normal { max, .. } | SizeDistribution::Uniform { max, .. } => *max,
+            SizeDistribution::Discrete { diameters, .. } => {
+                diameters.iter().cloned().fold(0.0, f64::max)
+            }
+        }
+    }
+
+    /// Smallest possible diameter, m.
+    pub fn min_diameter(&self) -> f64 {
+        match self {
+            SizeDistribution::Fixed(d) => *d,
+            SizeDistribution::Normal { min, .. } | SizeDistribution::Uniform { min, .. } => *min,
+            SizeDistribution::Discrete { diameters, .. } => {
+                diameters.iter().cloned().fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// Mean shot volume, m^3 (for converting a mass flow into a shot rate).
+    pub fn mean_volume(&self) -> f64 {
+        let v = |d: f64| std::f64::consts::PI / 6.0 * d * d * d;
+        match self {
+            SizeDistribution::Fixed(d) => v(*d),
+            SizeDistribution::Normal { mean, .. } => v(*mean),
+            SizeDistribution::Uniform { min, max } => {
+                // E[d^3] for d uniform on [min, max].
+                if max > min {
+                    std::f64::consts::PI / 6.0 * (max.powi(4) - min.powi(4)) / (4.0 * (max - min))
+                } else {
+                    v(*min)
+                }
+            }
+            SizeDistribution::Discrete { diameters, weights } => {
+                let w: f64 = weights.iter().sum();
+                diameters
+                    .iter()
+                    .zip(weights)
+                    .map(|(d, wi)| v(*d) * wi / w)
+                    .sum()
+            }
+        }
+    }
+}
+
+/// One shot of a list feed, SI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ListShot {
+    /// Centre, m.
+    pub position: Vec3,
+    /// Velocity, m/s.
+    pub velocity: Vec3,
+    /// Diameter, m.
+    pub diameter: f64,
+    /// Entry time, s.
+    pub start: f64,
+}
+
+/// How shots enter the run, SI.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Feed {
+    /// `count` shots at rest near the inlet.
+    Batch {
+        /// Number of shots.
+        count: u32,
+        /// Smallest centre offset from the axis, m.
+        radial_min: f64,
+        /// Largest centre offset from the axis, m.
+        radial_max: f64,
+        /// Depth below the inlet over which centres spread, m.
+        axial_spread: f64,
+    },
+    /// Continuous feed.
+    Stream {
+        /// Shots per second.
+        rate: f64,
+        /// Feeding time, s.
+        duration: f64,
+        /// Entry speed along the axis, m/s.
+        entry_speed: f64,
+        /// Poisson (true) or regular arrivals.
+        poisson: bool,
+    },
+    /// Explicit shots.
+    List(Vec<ListShot>),
+}
+
+impl Feed {
+    /// Number of shots the feed will (on average) produce.
+    pub fn expected_count(&self) -> f64 {
+        match self {
+            Feed::Batch { count, .. } => *count as f64,
+            Feed::Stream { rate, duration, .. } => rate * duration,
+            Feed::List(l) => l.len() as f64,
+        }
+    }
+}
+
+/// Restitution coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Restitution {
+    /// Shot on specimen.
+    pub shot_specimen: f64,
+    /// Shot on shot.
+    pub shot_shot: f64,
+    /// Shot on nozzle wall.
+    pub shot_nozzle: f64,
+}
+
+/// Integrator settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntegratorSettings {
+    /// Relative tolerance.
+    pub tolerance: f64,
+    /// Minimum steps per contact duration.
+    pub contact_steps: f64,
+    /// Largest step, s.
+    pub max_step: f64,
+}
+
+/// A checked scene in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// File the scene came from (or `<default scene>`).
+    pub path: String,
+    /// The scene's full TOML text.
+    pub text: String,
+    /// Title.
+    pub title: String,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated time, s.
+    pub duration: f64,
+    /// Gravity magnitude, m/s^2 (along -z).
+    pub gravity: f64,
+    /// Air inputs.
+    pub air_inputs: AirInputs,
+    /// Derived air state.
+    pub air: AirState,
+    /// Nozzle.
+    pub nozzle: NozzleGeometry,
+    /// Jet settings.
+    pub jet: JetSettings,
+    /// Shot sizes.
+    pub sizes: SizeDistribution,
+    /// Shot material.
+    pub shot_material: Material,
+    /// Specimen material.
+    pub specimen_material: Material,
+    /// Nozzle-wall material.
+    pub nozzle_material: Material,
+    /// Feed.
+    pub feed: Feed,
+    /// Restitution coefficients.
+    pub restitution: Restitution,
+    /// Integrator settings.
+    pub integrator: IntegratorSettings,
+    /// Requested effects.
+    pub effects: EffectRequest,
+    /// Domain.
+    pub domain: Domain,
+}
+
+impl Scene {
+    /// The embedded default scene (the paper's Table 2).
+    pub fn default_scene() -> Scene {
+        Scene::from_toml(DEFAULT_SCENE, "<default scene>")
+            .expect("BUG: the embedded default scene is invalid")
+    }
+
+    /// Reads and checks a scene file.
+    pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: shown.clone(),
+            source,
+        })?;
+        Scene::from_toml(&text, &shown)
+    }
+
+    /// Parses and checks scene text; `path` names it in messages.
+    pub fn from_toml(text: &str, path: &str) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text).map_err(|e| parse_error(path, text, &e))?;
+        file.validate(path, text)
+    }
+
+    /// Height of the nozzle exit above the specimen, m.
+    pub fn exit_height(&self) -> f64 {
+        self.nozzle.standoff
+    }
+
+    /// Height of the nozzle inlet above the specimen, m.
+    pub fn inlet_height(&self) -> f64 {
+        self.nozzle.standoff + self.nozzle.length
+    }
+
+    /// Density of the bore and core, kg/m^3, per the `core_density` choice.
+    pub fn core_density(&self) -> f64 {
+        match self.jet.core_density {
+            CoreDensity::RhoStar => self.air.rho_exit,
+            CoreDensity::Rho0 => self.air.rho_stagnation,
+        }
+    }
+}
+
+/// Turns a TOML/serde error into one line with position, key and a did-you-mean.
+fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
+    let offset = e.span().map(|s| s.start).unwrap_or(0).min(text.len());
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
+    let column = text[line_start..offset].chars().count() + 1;
+    let table = before
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))
+        .map(|l| l.trim_matches(|c| c == '[' || c == ']').to_string())
+        .unwrap_or_default();
+    let where_ = if table.is_empty() {
+        "at the top level".to_string()
+    } else {
+        format!("in [{table}]")
+    };
+    let msg = e.message().replace('\n', " ").trim().to_string();
+    let ticked = |s: &str| -> Vec<String> {
+        s.split('`')
+            .skip(1)
+            .step_by(2)
+            .map(|x| x.to_string())
+            .collect()
+    };
+    let message = if let Some(rest) = msg.strip_prefix("unknown field ") {
+        let names = ticked(rest);
+        let key = names.first().cloned().unwrap_or_default();
+        let expected: Vec<String> = names.into_iter().skip(1).collect();
+        let hint = validate::did_you_mean(&key, expected.iter().map(|s| s.as_str()))
+            .map(|s| format!("; did you mean `{s}`?"))
+            .unwrap_or_default();
+        format!(
+            "unknown key `{key}` {where_}{hint} (allowed: {})",
+            expected.join(", ")
+        )
+    } else if let Some(rest) = msg.strip_prefix("missing field ") {
+        let key = ticked(rest).first().cloned().unwrap_or_default();
+        format!("missing key `{key}` {where_}")
+    } else if msg.starts_with("unknown variant") {
+        let names = ticked(&msg);
+        let got = names.first().cloned().unwrap_or_default();
+        let allowed: Vec<String> = names.into_iter().skip(1).collect();
+        let key = key_on_line(text, line_start);
+        let hint = validate::did_you_mean(&got, allowed.iter().map(|s| s.as_str()))
+            .map(|s| format!("did you mean \"{s}\"? "))
+            .unwrap_or_default();
+        format!(
+            "key `{key}` {where_}: unknown value \"{got}\"; {hint}allowed: {}",
+            allowed.join(", ")
+        )
+    } else if msg.starts_with("invalid type")
+        || msg.starts_with("invalid value")
+        || msg.starts_with("invalid length")
+    {
+        let key = key_on_line(text, line_start);
+        format!("key `{key}` {where_}: {msg}")
+    } else {
+        format!("TOML syntax error: {msg}")
+    };
+    SceneError::Parse {
+        path: path.to_string(),
+        line,
+        column,
+        message,
+    }
+}
+
+fn key_on_line(text: &str, line_start: usize) -> String {
+    let line = text[line_start..].lines().next().unwrap_or("");
+    line.split('=').next().unwrap_or("").trim().to_string()
+}

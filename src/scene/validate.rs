@@ -1,0 +1,686 @@
+//! `SceneFile` -> `Scene`: range checks, cross-field checks, SI conversion.
+//! Validation finishes before the first step; a run never meets a bad value.
+
+use super::error::SceneError;
+use super::file::*;
+use super::material::{LIBRARY, Material, builtin};
+use super::*;
+use crate::flow::{AirState, JetModel};
+use crate::state::Domain;
+
+/// A closed or open interval bound for range checks.
+#[derive(Clone, Copy)]
+enum B {
+    /// Inclusive.
+    In(f64),
+    /// Exclusive.
+    Ex(f64),
+}
+
+struct Checker<'a> {
+    path: &'a str,
+}
+
+impl Checker<'_> {
+    fn range(&self, key: &str, v: f64, lo: B, hi: B, unit: &str) -> Result<f64, SceneError> {
+        let ok_lo = match lo {
+            B::In(l) => v >= l,
+            B::Ex(l) => v > l,
+        };
+        let ok_hi = match hi {
+            B::In(h) => v <= h,
+            B::Ex(h) => v < h,
+        };
+        if ok_lo && ok_hi && v.is_finite() {
+            return Ok(v);
+        }
+        let (lb, l) = match lo {
+            B::In(l) => ('[', l),
+            B::Ex(l) => ('(', l),
+        };
+        let (hb, h) = match hi {
+            B::In(h) => (']', h),
+            B::Ex(h) => (')', h),
+        };
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        Err(SceneError::OutOfRange {
+            path: self.path.to_string(),
+            key: key.to_string(),
+            value: format!("{v}"),
+            allowed: format!("{lb}{l}, {h}{hb}{unit}"),
+        })
+    }
+
+    fn invalid(&self, key: &str, message: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            path: self.path.to_string(),
+            key: key.to_string(),
+            message: message.into(),
+        }
+    }
+
+    fn material(&self, key: &str, name: &str, user: &[Material]) -> Result<Material, SceneError> {
+        if let Some(m) = user.iter().find(|m| m.name == name) {
+            return Ok(m.clone());
+        }
+        if let Some(m) = builtin(name) {
+            return Ok(m);
+        }
+        let names: Vec<String> = LIBRARY
+            .iter()
+            .map(|m| m.name.to_string())
+            .chain(user.iter().map(|m| m.name.clone()))
+            .collect();
+        let hint = did_you_mean(name, names.iter().map(|s| s.as_str()))
+            .map(|s| format!("did you mean \"{s}\"? "))
+            .unwrap_or_default();
+        Err(self.invalid(
+            key,
+            format!(
+                "unknown material \"{name}\"; {hint}known: {} (or define [materials.{name}])",
+                names.join(", ")
+            ),
+        ))
+    }
+}
+
+/// Closest candidate to `word`, if one is close enough to be a likely typo.
+pub fn did_you_mean<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    candidates
+        .map(|c| {
+            (
+                strsim::jaro_winkler(&word.to_lowercase(), &c.to_lowercase()),
+                c,
+            )
+        })
+        .filter(|(s, _)| *s >= 0.8)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
+}
+
+impl SceneFile {
+    /// Checks every value and builds the SI [`Scene`]. `path` names the file in messages;
+    /// `text` is kept for provenance in the outputs.
+    pub fn validate(self, path: &str, text: &str) -> Result<Scene, SceneError> {
+        let c = Checker { path };
+        let f = self;
+        let duration = c.range("duration_ms", f.duration_ms, B::Ex(0.0), B::In(1e5), "ms")? * 1e-3;
+        let gravity = c.range(
+            "gravity_m_s2",
+            f.gravity_m_s2,
+            B::In(0.0),
+            B::In(100.0),
+            "m/s^2",
+        )?;
+
+        // Materials first: the rest refers to them.
+        let mut user = Vec::new();
+        for (name, m) in &f.materials {
+            let k = |s: &str| format!("materials.{name}.{s}");
+            user.push(Material {
+                name: name.clone(),
+                youngs_modulus: c.range(
+                    &k("youngs_modulus_gpa"),
+                    m.youngs_modulus_gpa,
+                    B::Ex(0.0),
+                    B::In(2000.0),
+                    "GPa",
+                )? * 1e9,
+                poisson_ratio: c.range(
+                    &k("poisson_ratio"),
+                    m.poisson_ratio,
+                    B::Ex(-1.0),
+                    B::Ex(0.5),
+                    "",
+                )?,
+                density: c.range(
+                    &k("density_kg_m3"),
+                    m.density_kg_m3,
+                    B::Ex(0.0),
+                    B::In(1e5),
+                    "kg/m^3",
+                )?,
+                yield_strength: match m.yield_strength_mpa {
+                    Some(y) => Some(
+                        c.range(&k("yield_strength_mpa"), y, B::Ex(0.0), B::In(1e5), "MPa")? * 1e6,
+                    ),
+                    None => None,
+                },
+            });
+        }
+
+        let a = &f.air;
+        let air_inputs = AirInputs {
+            gauge_pressure: c.range(
+                "air.gauge_pressure_mpa",
+                a.gauge_pressure_mpa,
+                B::Ex(0.0),
+                B::In(5.0),
+                "MPa",
+            )? * 1e6,
+            ambient_pressure: c.range(
+                "air.ambient_pressure_mpa",
+                a.ambient_pressure_mpa,
+                B::In(0.01),
+                B::In(1.0),
+                "MPa",
+            )? * 1e6,
+            temperature: c.range(
+                "air.temperature_k",
+                a.temperature_k,
+                B::In(150.0),
+                B::In(600.0),
+                "K",
+            )?,
+            kappa: c.range("air.kappa", a.kappa, B::Ex(1.0), B::In(1.67), "")?,
+            gas_constant: c.range(
+                "air.gas_constant_j_kg_k",
+                a.gas_constant_j_kg_k,
+                B::In(100.0),
+                B::In(5000.0),
+                "J/(kg K)",
+            )?,
+            ambient_density: c.range(
+                "air.ambient_density_kg_m3",
+                a.ambient_density_kg_m3,
+                B::Ex(0.0),
+                B::In(10.0),
+                "kg/m^3",
+            )?,
+        };
+        let air = AirState::new(
+            air_inputs.gauge_pressure,
+            air_inputs.ambient_pressure,
+            air_inputs.temperature,
+            air_inputs.kappa,
+            air_inputs.gas_constant,
+            air_inputs.ambient_density,
+        );
+
+        let n = &f.nozzle;
+        let nozzle = NozzleGeometry {
+            bore: c.range("nozzle.bore_mm", n.bore_mm, B::Ex(0.0), B::In(100.0), "mm")? * 1e-3,
+            length: c.range(
+                "nozzle.length_mm",
+                n.length_mm,
+                B::Ex(0.0),
+                B::In(2000.0),
+                "mm",
+            )? * 1e-3,
+            standoff: c.range(
+                "nozzle.standoff_mm",
+                n.standoff_mm,
+                B::Ex(0.0),
+                B::In(5000.0),
+                "mm",
+            )? * 1e-3,
+        };
+        let nozzle_material = c.material("nozzle.material", &n.material, &user)?;
+
+        let j = &f.jet;
+        let lip_cap = match j.lip_density_cap_kg_m3 {
+            Some(v) => c.range(
+                "jet.lip_density_cap_kg_m3",
+                v,
+                B::Ex(0.0),
+                B::In(1000.0),
+                "kg/m^3",
+            )?,
+            None => air.rho_stagnation,
+        };
+        let jet = JetSettings {
+            model: match j.model {
+                JetModelFile::Paper => JetModel::Paper,
+                JetModelFile::Consistent => JetModel::Consistent,
+            },
+            core_density: match j.core_density {
+                CoreDensityFile::RhoStar => CoreDensity::RhoStar,
+                CoreDensityFile::Rho0 => CoreDensity::Rho0,
+            },
+            lip_density_cap: lip_cap,
+            drag_coefficient: c.range(
+                "jet.drag_coefficient",
+                j.drag_coefficient,
+                B::Ex(0.0),
+                B::In(10.0),
+                "",
+            )?,
+            lift_coefficient: c.range(
+                "jet.lift_coefficient",
+                j.lift_coefficient,
+                B::In(0.0),
+                B::In(10.0),
+                "",
+            )?,
+            divergence_tan: c.range(
+                "jet.divergence_tan",
+                j.divergence_tan,
+                B::In(0.0),
+                B::In(1.0),
+                "",
+            )?,
+        };
+
+        // Shot sizes.
+        let s = &f.shots;
+        let dia = |key: &str, v: f64| {
+            c.range(key, v, B::Ex(0.0), B::In(20.0), "mm")
+                .map(|v| v * 1e-3)
+        };
+        let sizes = match (&s.diameter_mm, &s.size_distribution) {
+            (Some(_), Some(_)) => {
+                return Err(c.invalid(
+                    "shots.diameter_mm",
+                    "give either shots.diameter_mm or [shots.size_distribution], not both",
+                ));
+            }
+            (Some(d), None) => SizeDistribution::Fixed(dia("shots.diameter_mm", *d)?),
+            (None, None) => SizeDistribution::Fixed(0.8e-3),
+            (
+                None,
+                Some(SizeDistributionFile::Normal {
+                    mean_mm,
+                    std_mm,
+                    min_mm,
+                    max_mm,
+                }),
+            ) => {
+                let k = "shots.size_distribution";
+                let mean = dia(&format!("{k}.mean_mm"), *mean_mm)?;
+                let std = c.range(
+                    &format!("{k}.std_mm"),
+                    *std_mm,
+                    B::In(0.0),
+                    B::In(10.0),
+                    "mm",
+                )? * 1e-3;
+                let min = dia(&format!("{k}.min_mm"), *min_mm)?;
+                let max = dia(&format!("{k}.max_mm"), *max_mm)?;
+                if !(min <= mean && mean <= max) {
+                    return Err(c.invalid(k, "need min_mm <= mean_mm <= max_mm"));
+                }
+                SizeDistribution::Normal {
+                    mean,
+                    std,
+                    min,
+                    max,
+                }
+            }
+            (None, Some(SizeDistributionFile::Uniform { min_mm, max_mm })) => {
+                let k = "shots.size_distribution";
+                let min = dia(&format!("{k}.min_mm"), *min_mm)?;
+                let max = dia(&format!("{k}.max_mm"), *max_mm)?;
+                if min > max {
+                    return Err(c.invalid(k, "need min_mm <= max_mm"));
+                }
+                SizeDistribution::Uniform { min, max }
+            }
+            (
+                None,
+                Some(SizeDistributionFile::Discrete {
+                    diameters_mm,
+                    weights,
+                }),
+            ) => {
+                let k = "shots.size_distribution";
+                if diameters_mm.is_empty() || diameters_mm.len() != weights.len() {
+                    return Err(c.invalid(
+                        k,
+                        format!(
+                            "diameters_mm ({}) and weights ({}) must be non-empty lists of equal length",
+                            diameters_mm.len(),
+                            weights.len()
+                        ),
+                    ));
+                }
+                let mut d = Vec::new();
+                let mut w = Vec::new();
+                for (i, (&di, &wi)) in diameters_mm.iter().zip(weights).enumerate() {
+                    d.push(dia(&format!("{k}.diameters_mm[{i}]"), di)?);
+                    w.push(c.range(
+                        &format!("{k}.weights[{i}]"),
+                        wi,
+                        B::In(0.0),
+                        B::In(1e9),
+                        "",
+                    )?);
+                }
+                if w.iter().sum::<f64>() <= 0.0 {
+                    return Err(c.invalid(k, "weights must not all be zero"));
+                }
+                SizeDistribution::Discrete {
+                    diameters: d,
+                    weights: w,
+                }
+            }
+        };
+        let d_max = sizes.max_diameter();
+        if d_max >= nozzle.bore {
+            return Err(c.invalid(
+                "shots.diameter_mm",
+                format!(
+                    "shots of {} mm do not fit the {} mm bore (nozzle.bore_mm): use shots smaller than the bore",
+                    d_max * 1e3,
+                    nozzle.bore * 1e3
+                ),
+            ));
+        }
+        let shot_material = c.material("shots.material", &s.material, &user)?;
+        let r_max = 0.5 * d_max;
+
+        let feed = match &s.feed {
+            FeedFile::Batch {
+                count,
+                radial_offset_mm,
+                axial_spread_mm,
+            } => {
+                let k = "shots.feed";
+                let count = *count;
+                if count == 0 || count > 10_000_000 {
+                    return Err(SceneError::OutOfRange {
+                        path: path.into(),
+                        key: format!("{k}.count"),
+                        value: count.to_string(),
+                        allowed: "[1, 10000000]".into(),
+                    });
+                }
+                let r0 = c.range(
+                    &format!("{k}.radial_offset_mm[0]"),
+                    radial_offset_mm[0],
+                    B::In(0.0),
+                    B::In(100.0),
+                    "mm",
+                )? * 1e-3;
+                let r1 = c.range(
+                    &format!("{k}.radial_offset_mm[1]"),
+                    radial_offset_mm[1],
+                    B::In(0.0),
+                    B::In(100.0),
+                    "mm",
+                )? * 1e-3;
+                if r0 > r1 {
+                    return Err(c.invalid(
+                        &format!("{k}.radial_offset_mm"),
+                        "need [min, max] with min <= max",
+                    ));
+                }
+                let limit = 0.5 * nozzle.bore - r_max;
+                if r1 > limit + 1e-12 {
+                    return Err(c.invalid(
+                        &format!("{k}.radial_offset_mm"),
+                        format!(
+                            "shot centres up to {} mm from the axis put {} mm shots into the bore wall (bore radius {} mm): keep radial_offset_mm[1] <= {:.4} mm",
+                            r1 * 1e3,
+                            d_max * 1e3,
+                            0.5 * nozzle.bore * 1e3,
+                            limit * 1e3
+                        ),
+                    ));
+                }
+                let spread = c.range(
+                    &format!("{k}.axial_spread_mm"),
+                    *axial_spread_mm,
+                    B::In(0.0),
+                    B::In(n.length_mm),
+                    "mm (0 to the bore length)",
+                )? * 1e-3;
+                Feed::Batch {
+                    count,
+                    radial_min: r0,
+                    radial_max: r1,
+                    axial_spread: spread,
+                }
+            }
+            FeedFile::Stream {
+                rate_per_s,
+                mass_flow_kg_min,
+                duration_ms,
+                entry_speed_m_s,
+                arrivals,
+            } => {
+                let k = "shots.feed";
+                let rate = match (rate_per_s, mass_flow_kg_min) {
+                    (Some(r), None) => c.range(
+                        &format!("{k}.rate_per_s"),
+                        *r,
+                        B::Ex(0.0),
+                        B::In(1e9),
+                        "shots/s",
+                    )?,
+                    (None, Some(q)) => {
+                        let q = c.range(
+                            &format!("{k}.mass_flow_kg_min"),
+                            *q,
+                            B::Ex(0.0),
+                            B::In(1000.0),
+                            "kg/min",
+                        )?;
+                        let mean_mass = shot_material.density * sizes.mean_volume();
+                        q / 60.0 / mean_mass
+                    }
+                    _ => {
+                        return Err(c.invalid(
+                            k,
+                            "a stream feed needs exactly one of rate_per_s or mass_flow_kg_min",
+                        ));
+                    }
+                };
+                let feed_duration = match duration_ms {
+                    Some(d) => {
+                        c.range(
+                            &format!("{k}.duration_ms"),
+                            *d,
+                            B::Ex(0.0),
+                            B::In(1e5),
+                            "ms",
+                        )? * 1e-3
+                    }
+                    None => duration,
+                };
+                let count = rate * feed_duration;
+                if count > 1e8 {
+                    return Err(c.invalid(
+                        k,
+                        format!("rate x duration = {count:.3e} shots; at most 1e8 are supported"),
+                    ));
+                }
+                let entry = c.range(
+                    &format!("{k}.entry_speed_m_s"),
+                    *entry_speed_m_s,
+                    B::In(0.0),
+                    B::In(500.0),
+                    "m/s",
+                )?;
+                let poisson = match arrivals.as_str() {
+                    "poisson" => true,
+                    "regular" => false,
+                    other => {
+                        return Err(c.invalid(
+                            &format!("{k}.arrivals"),
+                            format!("unknown value \"{other}\"; allowed: \"poisson\", \"regular\""),
+                        ));
+                    }
+                };
+                Feed::Stream {
+                    rate,
+                    duration: feed_duration,
+                    entry_speed: entry,
+                    poisson,
+                }
+            }
+            FeedFile::List { shots } => {
+                if shots.is_empty() {
+                    return Err(c.invalid(
+                        "shots.feed.shots",
+                        "a list feed needs at least one [[shots.feed.shots]] entry",
+                    ));
+                }
+                let mut list = Vec::new();
+                for (i, sh) in shots.iter().enumerate() {
+                    let k = format!("shots.feed.shots[{i}]");
+                    for (ax, v) in sh.position_mm.iter().enumerate() {
+                        c.range(
+                            &format!("{k}.position_mm[{ax}]"),
+                            *v,
+                            B::In(-1e5),
+                            B::In(1e5),
+                            "mm",
+                        )?;
+                    }
+                    for (ax, v) in sh.velocity_m_s.iter().enumerate() {
+                        c.range(
+                            &format!("{k}.velocity_m_s[{ax}]"),
+                            *v,
+                            B::In(-1e4),
+                            B::In(1e4),
+                            "m/s",
+                        )?;
+                    }
+                    let d = match sh.diameter_mm {
+                        Some(d) => dia(&format!("{k}.diameter_mm"), d)?,
+                        None => {
+                            match &sizes {
+                                SizeDistribution::Fixed(d) => *d,
+                                _ => {
+                                    return Err(c.invalid(&format!("{k}.diameter_mm"), "list shots need a diameter when shots use a size distribution"));
+                                }
+                            }
+                        }
+                    };
+                    if d >= nozzle.bore {
+                        return Err(c.invalid(
+                            &format!("{k}.diameter_mm"),
+                            format!(
+                                "a {} mm shot does not fit the {} mm bore",
+                                d * 1e3,
+                                nozzle.bore * 1e3
+                            ),
+                        ));
+                    }
+                    let start = c.range(
+                        &format!("{k}.start_ms"),
+                        sh.start_ms,
+                        B::In(0.0),
+                        B::In(1e5),
+                        "ms",
+                    )? * 1e-3;
+                    let pos =
+                        crate::Vec3::new(sh.position_mm[0], sh.position_mm[1], sh.position_mm[2])
+                            * 1e-3;
+                    if pos.z < 0.5 * d {
+                        return Err(c.invalid(
+                            &format!("{k}.position_mm"),
+                            format!("the shot's centre is {} mm above the specimen, less than its radius {} mm: it would start inside the specimen", pos.z * 1e3, 0.5 * d * 1e3),
+                        ));
+                    }
+                    list.push(ListShot {
+                        position: pos,
+                        velocity: crate::Vec3::new(
+                            sh.velocity_m_s[0],
+                            sh.velocity_m_s[1],
+                            sh.velocity_m_s[2],
+                        ),
+                        diameter: d,
+                        start,
+                    });
+                }
+                Feed::List(list)
+            }
+        };
+
+        let r = &f.restitution;
+        let restitution = Restitution {
+            shot_specimen: c.range(
+                "restitution.shot_specimen",
+                r.shot_specimen,
+                B::Ex(0.0),
+                B::In(1.0),
+                "",
+            )?,
+            shot_shot: c.range(
+                "restitution.shot_shot",
+                r.shot_shot,
+                B::Ex(0.0),
+                B::In(1.0),
+                "",
+            )?,
+            shot_nozzle: c.range(
+                "restitution.shot_nozzle",
+                r.shot_nozzle,
+                B::Ex(0.0),
+                B::In(1.0),
+                "",
+            )?,
+        };
+        let it = &f.integrator;
+        let integrator = IntegratorSettings {
+            tolerance: c.range(
+                "integrator.tolerance",
+                it.tolerance,
+                B::In(1e-12),
+                B::In(1e-2),
+                "",
+            )?,
+            contact_steps: c.range(
+                "integrator.contact_steps",
+                it.contact_steps,
+                B::In(10.0),
+                B::In(1e5),
+                "",
+            )?,
+            max_step: c.range(
+                "integrator.max_step_ms",
+                it.max_step_ms,
+                B::Ex(0.0),
+                B::In(100.0),
+                "ms",
+            )? * 1e-3,
+        };
+        let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
+        let effects = EffectRequest::from_value(f.effects.as_ref(), path)?;
+        let dm = &f.domain;
+        let domain = Domain {
+            radius: c.range(
+                "domain.radius_mm",
+                dm.radius_mm,
+                B::Ex(0.0),
+                B::In(1e5),
+                "mm",
+            )? * 1e-3,
+            top: nozzle.standoff
+                + nozzle.length
+                + c.range(
+                    "domain.above_inlet_mm",
+                    dm.above_inlet_mm,
+                    B::In(0.0),
+                    B::In(1e5),
+                    "mm",
+                )? * 1e-3,
+        };
+        Ok(Scene {
+            path: path.to_string(),
+            text: text.to_string(),
+            title: f.title,
+            seed: f.seed,
+            duration,
+            gravity,
+            air_inputs,
+            air,
+            nozzle,
+            jet,
+            sizes,
+            shot_material,
+            specimen_material,
+            nozzle_material,
+            feed,
+            restitution,
+            integrator,
+            effects,
+            domain,
+        })
+    }
+}

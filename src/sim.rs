@@ -1,0 +1,468 @@
+//! Simulation: owns the shots and runs the pipeline, top to bottom, window by window.
+//!
+//! ```text
+//! scene -> feed (initial shots) -> physics (flow field, force set, contact set)
+//! loop over synchronisation windows [t, t + H]:
+//!   broad phase: shots that may touch within H (cell list, reach-inflated radii)
+//!   islands: connected groups of such shots (union-find); singletons fly alone
+//!   integrate: every island on its own clock, in parallel (integrate::island)
+//!   verify: no overlap between shots that were not paired (else merge and redo)
+//!   commit: states, contact states, impacts, events, work counters
+//! ```
+//! Without shot-shot contact there is a single window: every shot flies alone from its
+//! entry to the end, with no neighbour search at all. Islands are formed and their
+//! outputs merged in shot-id order, so results do not depend on the thread count.
+
+use crate::Vec3;
+use crate::contact::broad::CellList;
+use crate::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact, WallContact};
+use crate::counters::WorkCounters;
+use crate::flow::JetField;
+use crate::forces::{DragModel, ForceSet, GravityModel, LateralForceModel};
+use crate::integrate::island::{self, IslandOutput, IslandPair, Physics, Scratch};
+use crate::record::{Impact, RunEvent};
+use crate::scene::{Effects, Scene, SceneError};
+use crate::state::{ShotState, ShotStatus};
+use rayon::prelude::*;
+use std::collections::{HashMap, HashSet};
+
+/// Longest synchronisation window, s.
+const MAX_WINDOW: f64 = 1e-4;
+/// Shortest synchronisation window, s.
+const MIN_WINDOW: f64 = 1e-8;
+
+/// Builds the stages a scene calls for, and nothing else.
+pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
+    let drag_law = DragModel {
+        coefficient: scene.jet.drag_coefficient,
+    };
+    let field = (effects.drag || effects.lateral_force).then(|| JetField {
+        exit: Vec3::new(0.0, 0.0, scene.exit_height()),
+        axis: Vec3::new(0.0, 0.0, -1.0),
+        bore: scene.nozzle.bore,
+        length: scene.nozzle.length,
+        exit_velocity: scene.air.exit_velocity,
+        rho_core: scene.core_density(),
+        rho_exit: scene.air.rho_exit,
+        rho_ambient: scene.air.rho_ambient,
+        lip_density_cap: scene.jet.lip_density_cap,
+        model: scene.jet.model,
+    });
+    let forces = ForceSet {
+        drag: effects.drag.then_some(drag_law),
+        lateral: effects.lateral_force.then_some(LateralForceModel {
+            lift_coefficient: scene.jet.lift_coefficient,
+            divergence_tan: scene.jet.divergence_tan,
+            bore: scene.nozzle.bore,
+            drag: drag_law,
+        }),
+        gravity: effects.gravity.then_some(GravityModel {
+            acceleration: Vec3::new(0.0, 0.0, -scene.gravity),
+        }),
+        field,
+    };
+    let shot = &scene.shot_material;
+    let law = |other: &crate::scene::Material, e: f64| {
+        HertzLaw::new(
+            shot.youngs_modulus,
+            shot.poisson_ratio,
+            other.youngs_modulus,
+            other.poisson_ratio,
+            e,
+        )
+    };
+    let contacts = ContactSet {
+        specimen: effects.specimen_contact.then(|| SpecimenContact {
+            law: law(&scene.specimen_material, scene.restitution.shot_specimen),
+        }),
+        wall: effects.nozzle_wall_contact.then(|| WallContact {
+            law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),
+            exit: Vec3::new(0.0, 0.0, scene.exit_height()),
+            axis: Vec3::new(0.0, 0.0, -1.0),
+            bore_radius: 0.5 * scene.nozzle.bore,
+            length: scene.nozzle.length,
+        }),
+        pair: effects.shot_shot_contact.then(|| PairContact {
+            law: law(shot, scene.restitution.shot_shot),
+        }),
+    };
+    Physics {
+        forces,
+        contacts,
+        tolerance: scene.integrator.tolerance,
+        contact_steps: scene.integrator.contact_steps,
+        domain: scene.domain,
+        max_step: scene.integrator.max_step,
+    }
+}
+
+/// Contact state of a shot pair that persists between windows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PairState {
+    contact_time: f64,
+}
+
+/// What a run produced.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// Impacts sorted by (time, shot).
+    pub impacts: Vec<Impact>,
+    /// Final shot states, by id.
+    pub shots: Vec<ShotState>,
+    /// Shots that had to be stopped.
+    pub events: Vec<RunEvent>,
+    /// Work counters.
+    pub work: WorkCounters,
+    /// Synchronisation windows run.
+    pub windows: u64,
+    /// Windows re-run because an unpaired overlap was found.
+    pub window_redos: u64,
+    /// Simulated end time, s.
+    pub end_time: f64,
+}
+
+/// A run in progress.
+pub struct Simulation {
+    physics: Physics,
+    shots: Vec<ShotState>,
+    pairs: HashMap<(u32, u32), PairState>,
+    t: f64,
+    end: f64,
+    impacts: Vec<Impact>,
+    events: Vec<RunEvent>,
+    work: WorkCounters,
+    windows: u64,
+    window_redos: u64,
+    cells: CellList,
+}
+
+impl Simulation {
+    /// A run of `scene` with its resolved `effects`.
+    pub fn new(scene: &Scene, effects: &Effects) -> Result<Self, SceneError> {
+        let physics = build_physics(scene, effects);
+        let shots = crate::feed::initial_shots(scene)?;
+        Ok(Simulation::from_parts(physics, shots, scene.duration))
+    }
+
+    /// A run from explicit stages and shots (for tests and library users).
+    pub fn from_parts(physics: Physics, mut shots: Vec<ShotState>, end: f64) -> Self {
+        if let Some(field) = &physics.forces.field {
+            for s in &mut shots {
+                s.region = field.region_of(&field.coords(&s.pos));
+            }
+        }
+        Simulation {
+            physics,
+            shots,
+            pairs: HashMap::new(),
+            t: 0.0,
+            end,
+            impacts: Vec::new(),
+            events: Vec::new(),
+            work: WorkCounters::default(),
+            windows: 0,
+            window_redos: 0,
+            cells: CellList::default(),
+        }
+    }
+
+    /// The physics stages in use.
+    pub fn physics(&self) -> &Physics {
+        &self.physics
+    }
+
+    /// Runs to the end. `progress` receives the finished fraction (0 to 1).
+    pub fn run(mut self, progress: &(dyn Fn(f64) + Sync)) -> RunOutput {
+        if self.physics.contacts.pair.is_none() {
+            self.run_independent(progress);
+        } else {
+            while self.t < self.end {
+                let h = self.window_length();
+                let t1 = if self.t + h >= self.end {
+                    self.end
+                } else {
+                    self.t + h
+                };
+                self.window(t1);
+                self.t = t1;
+                progress(self.t / self.end);
+            }
+        }
+        self.impacts
+            .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
+        self.events
+            .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
+        RunOutput {
+            impacts: self.impacts,
+            shots: self.shots,
+            events: self.events,
+            work: self.work,
+            windows: self.windows,
+            window_redos: self.window_redos,
+            end_time: self.end,
+        }
+    }
+
+    /// No shot-shot contact: every shot flies alone over the whole run.
+    fn run_independent(&mut self, progress: &(dyn Fn(f64) + Sync)) {
+        let phys = &self.physics;
+        let end = self.end;
+        let total = self.shots.len().max(1) as f64;
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        let outputs: Vec<IslandOutput> = self
+            .shots
+            .par_iter_mut()
+            .map_init(Scratch::default, |scratch, shot| {
+                let mut out = IslandOutput::default();
+                let t0 = shot.t_start.min(end);
+                island::advance(
+                    phys,
+                    std::slice::from_mut(shot),
+                    &mut [],
+                    t0,
+                    end,
+                    scratch,
+                    &mut out,
+                );
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n as f64 / total);
+                out
+            })
+            .collect();
+        self.windows = 1;
+        for o in outputs {
+            self.commit_output(o);
+        }
+    }
+
+    fn commit_output(&mut self, o: IslandOutput) {
+        self.impacts.extend(o.impacts);
+        self.events.extend(o.events);
+        self.work.add(&o.work);
+    }
+
+    /// Window length: about the time the fastest shot needs to cross the smallest shot's
+    /// diameter, so islands stay small.
+    fn window_length(&self) -> f64 {
+        let mut v_max: f64 = 0.0;
+        let mut d_min = f64::INFINITY;
+        for s in &self.shots {
+            if s.is_active() && s.t_start <= self.t {
+                v_max = v_max.max(s.vel.norm());
+                d_min = d_min.min(2.0 * s.body.radius);
+            }
+        }
+        if !d_min.is_finite() {
+            // Nobody has entered yet: jump to the next entry (bounded by MAX_WINDOW).
+            let next = self
+                .shots
+                .iter()
+                .filter(|s| s.is_active() && s.t_start > self.t)
+                .map(|s| s.t_start)
+                .fold(f64::INFINITY, f64::min);
+            return (next - self.t).clamp(MIN_WINDOW, MAX_WINDOW);
+        }
+        (d_min / v_max.max(1e-9)).clamp(MIN_WINDOW, MAX_WINDOW)
+    }
+
+    /// Runs one synchronisation window `[self.t, t1]`.
+    fn window(&mut self, t1: f64) {
+        let t0 = self.t;
+        let h = t1 - t0;
+        self.windows += 1;
+        // Shots taking part: active and entering before the window ends.
+        let idx: Vec<usize> = (0..self.shots.len())
+            .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
+            .collect();
+        if idx.is_empty() {
+            return;
+        }
+        // Broad phase with reach-inflated radii.
+        let centres: Vec<Vec3> = idx.iter().map(|&i| self.shots[i].pos).collect();
+        let inflated: Vec<f64> = idx
+            .iter()
+            .map(|&i| {
+                let s = &self.shots[i];
+                let span = t1 - s.t_start.max(t0);
+                let speed = 1.5 * s.vel.norm();
+                let a = self.physics.forces.acceleration_bound(&s.body, speed + 1.0);
+                s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
+            })
+            .collect();
+        self.work.neighbour_searches += 1;
+        let mut candidates: HashSet<(u32, u32)> = self
+            .cells
+            .pairs(&centres, &inflated)
+            .into_iter()
+            .map(|(a, b)| {
+                (
+                    self.shots[idx[a as usize]].id.0,
+                    self.shots[idx[b as usize]].id.0,
+                )
+            })
+            .collect();
+        // Touching pairs always take part (they overlap, so the cell list finds them,
+        // but a shot that stopped meanwhile must not leave a stale entry behind).
+        self.pairs.retain(|k, _| {
+            self.shots[k.0 as usize].is_active() && self.shots[k.1 as usize].is_active()
+        });
+        candidates.extend(self.pairs.keys().copied());
+        let _ = h;
+        loop {
+            let (islands, results) = self.integrate_islands(&idx, &candidates, t0, t1);
+            // Verify: an overlap at the window end between shots that were not paired
+            // means the reach bound was beaten (e.g. a shot kicked by a collision).
+            let ends: Vec<Vec3> = {
+                let mut pos = vec![Vec3::zeros(); self.shots.len()];
+                for (isl, (members, _, _)) in islands.iter().zip(&results) {
+                    for (k, &gi) in isl.iter().enumerate() {
+                        pos[gi] = members[k].pos;
+                    }
+                }
+                idx.iter().map(|&i| pos[i]).collect()
+            };
+            let radii: Vec<f64> = idx.iter().map(|&i| self.shots[i].body.radius).collect();
+            self.work.neighbour_searches += 1;
+            let missed: Vec<(u32, u32)> = self
+                .cells
+                .pairs(&ends, &radii)
+                .into_iter()
+                .map(|(a, b)| {
+                    (
+                        self.shots[idx[a as usize]].id.0,
+                        self.shots[idx[b as usize]].id.0,
+                    )
+                })
+                .filter(|p| !candidates.contains(p))
+                .collect();
+            if !missed.is_empty() {
+                self.window_redos += 1;
+                candidates.extend(missed);
+                continue;
+            }
+            self.commit_islands(&islands, results);
+            break;
+        }
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn integrate_islands(
+        &self,
+        idx: &[usize],
+        candidates: &HashSet<(u32, u32)>,
+        t0: f64,
+        t1: f64,
+    ) -> (
+        Vec<Vec<usize>>,
+        Vec<(Vec<ShotState>, Vec<((u32, u32), IslandPair)>, IslandOutput)>,
+    ) {
+        // Union-find over global indices (shot id == index).
+        let n = self.shots.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn find(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        let mut sorted: Vec<(u32, u32)> = candidates.iter().copied().collect();
+        sorted.sort_unstable();
+        for &(a, b) in &sorted {
+            let (ra, rb) = (find(&mut parent, a as usize), find(&mut parent, b as usize));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        let mut by_root: HashMap<usize, usize> = HashMap::new();
+        let mut islands: Vec<Vec<usize>> = Vec::new();
+        for &i in idx {
+            let r = find(&mut parent, i);
+            let k = *by_root.entry(r).or_insert_with(|| {
+                islands.push(Vec::new());
+                islands.len() - 1
+            });
+            islands[k].push(i);
+        }
+        let mut island_pairs: Vec<Vec<(u32, u32)>> = vec![Vec::new(); islands.len()];
+        for &(a, b) in &sorted {
+            let r = find(&mut parent, a as usize);
+            if let Some(&k) = by_root.get(&r) {
+                island_pairs[k].push((a, b));
+            }
+        }
+        let phys = &self.physics;
+        let results = islands
+            .par_iter()
+            .zip(island_pairs.par_iter())
+            .map_init(Scratch::default, |scratch, (members_idx, gpairs)| {
+                let mut members: Vec<ShotState> =
+                    members_idx.iter().map(|&i| self.shots[i].clone()).collect();
+                let local = |g: u32| {
+                    members_idx
+                        .iter()
+                        .position(|&i| i == g as usize)
+                        .expect("BUG: pair outside island") as u32
+                };
+                let mut pairs: Vec<IslandPair> = gpairs
+                    .iter()
+                    .map(|&(a, b)| {
+                        let st = self.pairs.get(&(a, b));
+                        IslandPair {
+                            a: local(a),
+                            b: local(b),
+                            touching: st.is_some(),
+                            contact_time: st.map_or(0.0, |s| s.contact_time),
+                        }
+                    })
+                    .collect();
+                let mut out = IslandOutput::default();
+                island::advance(phys, &mut members, &mut pairs, t0, t1, scratch, &mut out);
+                let keyed = gpairs.iter().copied().zip(pairs).collect();
+                (members, keyed, out)
+            })
+            .collect();
+        (islands, results)
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn commit_islands(
+        &mut self,
+        islands: &[Vec<usize>],
+        results: Vec<(Vec<ShotState>, Vec<((u32, u32), IslandPair)>, IslandOutput)>,
+    ) {
+        for (isl, (members, pairs, out)) in islands.iter().zip(results) {
+            for (k, m) in members.into_iter().enumerate() {
+                self.shots[isl[k]] = m;
+            }
+            for (key, p) in pairs {
+                if p.touching {
+                    self.pairs.insert(
+                        key,
+                        PairState {
+                            contact_time: p.contact_time,
+                        },
+                    );
+                } else {
+                    self.pairs.remove(&key);
+                }
+            }
+            self.commit_output(out);
+        }
+    }
+}
+
+/// Whether a shot never touched the specimen.
+pub fn never_hit(s: &ShotState) -> bool {
+    s.hits == 0
+}
+
+/// Counts of shots by status.
+pub fn status_counts(shots: &[ShotState]) -> [(ShotStatus, usize); 3] {
+    let count = |st| shots.iter().filter(|s| s.status == st).count();
+    [
+        (ShotStatus::Active, count(ShotStatus::Active)),
+        (ShotStatus::LeftDomain, count(ShotStatus::LeftDomain)),
+        (ShotStatus::Failed, count(ShotStatus::Failed)),
+    ]
+}

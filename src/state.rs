@@ -1,0 +1,119 @@
+//! Simulation state: one [`ShotState`] per shot, plus ids.
+//!
+//! Shots are stored as an array of structs: the integrator copies the members of each
+//! island into its own contiguous buffer for the window anyway (see `sim.rs`), so the
+//! global array is touched once per window per shot.
+
+use crate::Vec3;
+use crate::flow::Region;
+use crate::forces::ShotBody;
+use serde::Serialize;
+
+/// Index of a shot in the run (0-based, in feed order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub struct ShotId(pub u32);
+
+/// Life cycle of a shot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShotStatus {
+    /// Flying (or resting) inside the domain; integrated.
+    Active,
+    /// Left the simulated domain (see [`Domain`]); no longer integrated.
+    LeftDomain,
+    /// Stopped because its state stopped being finite or its steps collapsed.
+    Failed,
+}
+
+/// Box outside which a shot no longer matters and is dropped from the run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    /// Largest distance from the world z axis, m.
+    pub radius: f64,
+    /// Largest height above the specimen, m.
+    pub top: f64,
+}
+
+impl Domain {
+    /// Whether `pos` lies inside.
+    #[inline]
+    pub fn contains(&self, pos: &Vec3) -> bool {
+        pos.x * pos.x + pos.y * pos.y <= self.radius * self.radius && pos.z <= self.top
+    }
+}
+
+/// Everything the run keeps about one shot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShotState {
+    /// The shot's id.
+    pub id: ShotId,
+    /// Centre, m.
+    pub pos: Vec3,
+    /// Velocity, m/s.
+    pub vel: Vec3,
+    /// Radius and mass.
+    pub body: ShotBody,
+    /// Time the shot enters the run, s (0 for batch feeds).
+    pub t_start: f64,
+    /// Life-cycle status.
+    pub status: ShotStatus,
+    /// Jet region frozen for the current step.
+    pub region: Region,
+    /// In contact with the specimen.
+    pub on_specimen: bool,
+    /// Step-duration estimate of the current specimen contact (Hertz time), s.
+    pub specimen_contact_time: f64,
+    /// In contact with the nozzle wall.
+    pub on_wall: bool,
+    /// Step-duration estimate of the current wall contact (Hertz time), s.
+    pub wall_contact_time: f64,
+    /// Next step size the error controller proposes, s.
+    pub h_next: f64,
+    /// Specimen contacts so far.
+    pub hits: u32,
+    /// Shot-shot contacts so far.
+    pub collisions: u32,
+    /// Nozzle-wall contacts so far.
+    pub wall_contacts: u32,
+    /// Accepted integrator steps that moved this shot.
+    pub steps: u64,
+    /// Steps from entering the run to the onset of the first specimen contact.
+    pub steps_to_first_contact: Option<u64>,
+    /// Steps taken during the first specimen contact.
+    pub first_contact_steps: u64,
+    /// Time (s) when the shot was stopped (left the domain or failed), if it was.
+    pub t_stop: Option<f64>,
+}
+
+impl ShotState {
+    /// A shot at rest or moving, entering the run at `t_start`.
+    pub fn new(id: ShotId, pos: Vec3, vel: Vec3, body: ShotBody, t_start: f64) -> Self {
+        ShotState {
+            id,
+            pos,
+            vel,
+            body,
+            t_start,
+            status: ShotStatus::Active,
+            region: Region::Outside,
+            on_specimen: false,
+            specimen_contact_time: 0.0,
+            on_wall: false,
+            wall_contact_time: 0.0,
+            h_next: 0.0,
+            hits: 0,
+            collisions: 0,
+            wall_contacts: 0,
+            steps: 0,
+            steps_to_first_contact: None,
+            first_contact_steps: 0,
+            t_stop: None,
+        }
+    }
+
+    /// Whether the shot is still integrated.
+    #[inline]
+    pub fn is_active(&self) -> bool {
+        self.status == ShotStatus::Active
+    }
+}

@@ -1,0 +1,408 @@
+//! Run summary: hit fraction, impact-speed and impact-radius statistics and histograms
+//! in the paper's bins (5 m/s as its Figure 12, 5 mm as its Figure 13), effects used,
+//! step and contact counts. Statistics are over first hits (one per shot, as the paper
+//! counts particles); rebound hits are counted separately.
+
+use crate::counters::WorkCounters;
+use crate::record::{Impact, RunEvent};
+use crate::scene::{EffectDecision, Scene};
+use crate::sim::RunOutput;
+use crate::state::ShotStatus;
+use serde::Serialize;
+
+/// Descriptive statistics of a sample.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Stats {
+    /// Sample size.
+    pub count: usize,
+    /// Mean.
+    pub mean: f64,
+    /// Median.
+    pub median: f64,
+    /// 10th percentile (linear interpolation).
+    pub p10: f64,
+    /// 90th percentile.
+    pub p90: f64,
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+}
+
+/// Percentile `q` in [0, 100] of sorted data, with linear interpolation (numpy default).
+pub fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let pos = q / 100.0 * (sorted.len() - 1) as f64;
+    let lo = pos.floor() as usize;
+    let hi = pos.ceil() as usize;
+    sorted[lo] + (sorted[hi] - sorted[lo]) * (pos - lo as f64)
+}
+
+impl Stats {
+    /// Statistics of `values`, or `None` for an empty sample.
+    pub fn of(values: &[f64]) -> Option<Stats> {
+        if values.is_empty() {
+            return None;
+        }
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        Some(Stats {
+            count: v.len(),
+            mean: v.iter().sum::<f64>() / v.len() as f64,
+            median: percentile(&v, 50.0),
+            p10: percentile(&v, 10.0),
+            p90: percentile(&v, 90.0),
+            min: v[0],
+            max: v[v.len() - 1],
+        })
+    }
+}
+
+/// Integer statistics (step counts).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CountStats {
+    /// Shots counted.
+    pub count: usize,
+    /// Smallest.
+    pub min: u64,
+    /// Median.
+    pub median: u64,
+    /// Largest.
+    pub max: u64,
+}
+
+impl CountStats {
+    fn of(mut v: Vec<u64>) -> Option<CountStats> {
+        if v.is_empty() {
+            return None;
+        }
+        v.sort_unstable();
+        Some(CountStats {
+            count: v.len(),
+            min: v[0],
+            median: v[v.len() / 2],
+            max: v[v.len() - 1],
+        })
+    }
+}
+
+/// Fixed-width histogram starting at zero.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Histogram {
+    /// Quantity and unit.
+    pub quantity: String,
+    /// Bin width (unit of `quantity`).
+    pub bin_width: f64,
+    /// Lower edge of each bin.
+    pub lower_edges: Vec<f64>,
+    /// Counts per bin.
+    pub counts: Vec<usize>,
+    /// Values at or above the last bin's upper edge.
+    pub overflow: usize,
+}
+
+impl Histogram {
+    /// Histogram of `values` with `bins` bins of `width` from 0 (negative values go to bin 0).
+    pub fn new(quantity: &str, values: &[f64], width: f64, bins: usize) -> Histogram {
+        let mut counts = vec![0; bins];
+        let mut overflow = 0;
+        for &v in values {
+            let k = (v.max(0.0) / width).floor() as usize;
+            if k < bins {
+                counts[k] += 1;
+            } else {
+                overflow += 1;
+            }
+        }
+        Histogram {
+            quantity: quantity.to_string(),
+            bin_width: width,
+            lower_edges: (0..bins).map(|k| k as f64 * width).collect(),
+            counts,
+            overflow,
+        }
+    }
+}
+
+/// Step counts the acceptance tests and users look at.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepReport {
+    /// Accepted island steps.
+    pub accepted: u64,
+    /// Rejected trial steps (incl. event-location trials).
+    pub rejected: u64,
+    /// Shot-steps (accepted steps x shots moved).
+    pub shot_steps: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: u64,
+    /// Per shot: steps from entry to the onset of its first specimen contact.
+    pub flight_to_first_contact: Option<CountStats>,
+    /// Per shot: steps during its first specimen contact.
+    pub first_contact: Option<CountStats>,
+}
+
+/// Contact counts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContactReport {
+    /// Shot-specimen contacts (= impact records).
+    pub shot_specimen: usize,
+    /// Shot-shot contacts.
+    pub shot_shot: u64,
+    /// Shot-nozzle-wall contacts.
+    pub shot_wall: u64,
+}
+
+/// Everything summary.json holds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// "peenflow".
+    pub tool: String,
+    /// Crate version.
+    pub version: String,
+    /// Scene file.
+    pub scene: String,
+    /// Scene title.
+    pub title: String,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated time, s.
+    pub simulated_time_s: f64,
+    /// Shots in the run.
+    pub shots: usize,
+    /// Shots with at least one specimen contact.
+    pub shots_hit: usize,
+    /// `shots_hit / shots`.
+    pub hit_fraction: f64,
+    /// Shots that never reached the specimen.
+    pub never_hit: usize,
+    /// Shots dropped on leaving the domain.
+    pub left_domain: usize,
+    /// Shots stopped by a numerical failure (see `events`).
+    pub failed: usize,
+    /// All impact records.
+    pub impacts: usize,
+    /// First hits (one per shot that hit).
+    pub first_hits: usize,
+    /// Rebound hits.
+    pub rebound_hits: usize,
+    /// Normal impact speed of first hits, m/s (the paper's y-direction velocity).
+    pub normal_speed_m_s: Option<Stats>,
+    /// Impact speed of first hits, m/s.
+    pub speed_m_s: Option<Stats>,
+    /// Distance of first hits from the jet axis, m.
+    pub radius_m: Option<Stats>,
+    /// Normal impact speed of first hits in 5 m/s bins (paper Figure 12).
+    pub normal_speed_histogram: Histogram,
+    /// Impact radius of first hits in 5 mm bins (paper Figure 13).
+    pub radius_histogram: Histogram,
+    /// Effects and why.
+    pub effects: Vec<EffectDecision>,
+    /// Wall-clock time of the simulation, s.
+    pub wall_time_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Step counts.
+    pub steps: StepReport,
+    /// Contact counts.
+    pub contacts: ContactReport,
+    /// Work counters per stage and effect.
+    pub work: WorkCounters,
+    /// Synchronisation windows.
+    pub windows: u64,
+    /// Windows re-run after an unpaired overlap.
+    pub window_redos: u64,
+    /// Shots stopped, with time, cause and suggested fix.
+    pub events: Vec<RunEvent>,
+}
+
+impl Summary {
+    /// Builds the summary of a finished run.
+    pub fn new(
+        scene: &Scene,
+        effects: &[EffectDecision],
+        out: &RunOutput,
+        wall_time: f64,
+        threads: usize,
+    ) -> Summary {
+        let first: Vec<&Impact> = out.impacts.iter().filter(|i| i.first_hit == 1).collect();
+        let normal: Vec<f64> = first.iter().map(|i| i.normal_speed_m_s).collect();
+        let speed: Vec<f64> = first.iter().map(|i| i.speed_m_s).collect();
+        let radius: Vec<f64> = first.iter().map(|i| i.radius_m()).collect();
+        let radius_mm: Vec<f64> = radius.iter().map(|r| r * 1e3).collect();
+        let shots_hit = out.shots.iter().filter(|s| s.hits > 0).count();
+        let n = out.shots.len();
+        Summary {
+            tool: "peenflow".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            scene: scene.path.clone(),
+            title: scene.title.clone(),
+            seed: scene.seed,
+            simulated_time_s: out.end_time,
+            shots: n,
+            shots_hit,
+            hit_fraction: if n > 0 {
+                shots_hit as f64 / n as f64
+            } else {
+                0.0
+            },
+            never_hit: n - shots_hit,
+            left_domain: out
+                .shots
+                .iter()
+                .filter(|s| s.status == ShotStatus::LeftDomain)
+                .count(),
+            failed: out
+                .shots
+                .iter()
+                .filter(|s| s.status == ShotStatus::Failed)
+                .count(),
+            impacts: out.impacts.len(),
+            first_hits: first.len(),
+            rebound_hits: out.impacts.len() - first.len(),
+            normal_speed_m_s: Stats::of(&normal),
+            speed_m_s: Stats::of(&speed),
+            radius_m: Stats::of(&radius),
+            normal_speed_histogram: Histogram::new("normal impact speed, m/s", &normal, 5.0, 30),
+            radius_histogram: Histogram::new("impact radius, mm", &radius_mm, 5.0, 10),
+            effects: effects.to_vec(),
+            wall_time_s: wall_time,
+            threads,
+            steps: StepReport {
+                accepted: out.work.steps_accepted,
+                rejected: out.work.steps_rejected,
+                shot_steps: out.work.shot_steps,
+                rhs_evaluations: out.work.rhs_evaluations,
+                flight_to_first_contact: CountStats::of(
+                    out.shots
+                        .iter()
+                        .filter_map(|s| s.steps_to_first_contact)
+                        .collect(),
+                ),
+                first_contact: CountStats::of(
+                    out.shots
+                        .iter()
+                        .filter(|s| s.hits > 0)
+                        .map(|s| s.first_contact_steps)
+                        .collect(),
+                ),
+            },
+            contacts: ContactReport {
+                shot_specimen: out.impacts.len(),
+                shot_shot: out.shots.iter().map(|s| s.collisions as u64).sum::<u64>() / 2,
+                shot_wall: out.shots.iter().map(|s| s.wall_contacts as u64).sum(),
+            },
+            work: out.work,
+            windows: out.windows,
+            window_redos: out.window_redos,
+            events: out.events.clone(),
+        }
+    }
+
+    /// Short human-readable report.
+    pub fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "{} — {}", self.scene, self.title);
+        let _ = writeln!(
+            s,
+            "shots {}: {} hit the specimen ({:.1} %), {} never did; {} impact records ({} rebound hits)",
+            self.shots,
+            self.shots_hit,
+            100.0 * self.hit_fraction,
+            self.never_hit,
+            self.impacts,
+            self.rebound_hits
+        );
+        if self.left_domain + self.failed > 0 {
+            let _ = writeln!(
+                s,
+                "stopped: {} left the domain, {} failed (see events)",
+                self.left_domain, self.failed
+            );
+        }
+        if let Some(v) = &self.normal_speed_m_s {
+            let _ = writeln!(
+                s,
+                "normal impact speed, m/s (first hits): mean {:.2}  median {:.2}  p10 {:.2}  p90 {:.2}  min {:.2}  max {:.2}",
+                v.mean, v.median, v.p10, v.p90, v.min, v.max
+            );
+        }
+        if let Some(r) = &self.radius_m {
+            let _ = writeln!(
+                s,
+                "impact radius, mm (first hits):        mean {:.2}  median {:.2}  p10 {:.2}  p90 {:.2}  max {:.2}",
+                r.mean * 1e3,
+                r.median * 1e3,
+                r.p10 * 1e3,
+                r.p90 * 1e3,
+                r.max * 1e3
+            );
+        }
+        for h in [&self.normal_speed_histogram, &self.radius_histogram] {
+            let total: usize = h.counts.iter().sum::<usize>() + h.overflow;
+            if total == 0 {
+                continue;
+            }
+            let _ = writeln!(s, "{} (first hits):", h.quantity);
+            let first = h.counts.iter().position(|&c| c > 0).unwrap_or(0);
+            let last = h.counts.iter().rposition(|&c| c > 0).unwrap_or(0);
+            let peak = *h.counts.iter().max().unwrap_or(&1).max(&1);
+            for k in first..=last {
+                let bar = "#".repeat((h.counts[k] * 40).div_ceil(peak));
+                let _ = writeln!(
+                    s,
+                    "  {:>5.0}-{:<5.0} {:>5} {:>5.1} % {}",
+                    h.lower_edges[k],
+                    h.lower_edges[k] + h.bin_width,
+                    h.counts[k],
+                    100.0 * h.counts[k] as f64 / total as f64,
+                    bar
+                );
+            }
+            if h.overflow > 0 {
+                let _ = writeln!(s, "  overflow    {:>5}", h.overflow);
+            }
+        }
+        let on: Vec<&str> = self
+            .effects
+            .iter()
+            .filter(|e| e.on)
+            .map(|e| e.name)
+            .collect();
+        let off: Vec<String> = self
+            .effects
+            .iter()
+            .filter(|e| !e.on)
+            .map(|e| format!("{} ({})", e.name, e.reason))
+            .collect();
+        let _ = writeln!(s, "effects on: {}", on.join(", "));
+        if !off.is_empty() {
+            let _ = writeln!(s, "effects off: {}", off.join(", "));
+        }
+        let _ = writeln!(
+            s,
+            "work: {} steps ({} rejected), {} shot-steps, {} shot-shot and {} wall contacts, {} windows; wall time {:.3} s on {} threads",
+            self.steps.accepted,
+            self.steps.rejected,
+            self.steps.shot_steps,
+            self.contacts.shot_shot,
+            self.contacts.shot_wall,
+            self.windows,
+            self.wall_time_s,
+            self.threads
+        );
+        for e in &self.events {
+            let _ = writeln!(
+                s,
+                "event: shot {} at t = {:.6} ms: {}; {}",
+                e.shot,
+                e.time_s * 1e3,
+                e.cause,
+                e.suggestion
+            );
+        }
+        s
+    }
+}
