@@ -18,17 +18,52 @@ pub struct Material {
     pub yield_strength: Option<f64>,
 }
 
-/// Built-in materials: (name, E GPa, nu, density kg/m^3, yield MPa, note).
-pub const LIBRARY: &[(&str, f64, f64, f64, Option<f64>, &str)] = &[
-    (
+/// One built-in material, in the units users quote.
+#[derive(Debug, Clone, Copy)]
+pub struct LibraryEntry {
+    /// Name used in scenes.
+    pub name: &'static str,
+    /// Young's modulus, GPa.
+    pub youngs_modulus_gpa: f64,
+    /// Poisson's ratio.
+    pub poisson_ratio: f64,
+    /// Density, kg/m^3.
+    pub density_kg_m3: f64,
+    /// Yield strength, MPa.
+    pub yield_strength_mpa: Option<f64>,
+    /// Source or use.
+    pub note: &'static str,
+}
+
+const fn entry(
+    name: &'static str,
+    e: f64,
+    nu: f64,
+    rho: f64,
+    y: Option<f64>,
+    note: &'static str,
+) -> LibraryEntry {
+    LibraryEntry {
+        name,
+        youngs_modulus_gpa: e,
+        poisson_ratio: nu,
+        density_kg_m3: rho,
+        yield_strength_mpa: y,
+        note,
+    }
+}
+
+/// Built-in materials.
+pub const LIBRARY: &[LibraryEntry] = &[
+    entry(
         "table2-steel",
         210.0,
         0.3,
         7850.0,
         None,
-        "paper Table 2 (shots and specimen); density of SUJ-2",
+        "paper Table 2 (shots and specimen); SUJ-2 density",
     ),
-    (
+    entry(
         "SUJ-2",
         208.0,
         0.3,
@@ -36,15 +71,15 @@ pub const LIBRARY: &[(&str, f64, f64, f64, Option<f64>, &str)] = &[
         Some(1700.0),
         "JIS SUJ-2 / AISI 52100 bearing steel, hardened",
     ),
-    (
+    entry(
         "A5052",
         70.3,
         0.33,
         2680.0,
         Some(195.0),
-        "JIS A5052 / AA 5052 aluminium, the paper's real specimen",
+        "JIS A5052 / AA 5052 aluminium: the paper's real specimen",
     ),
-    (
+    entry(
         "hardened-steel",
         210.0,
         0.3,
@@ -52,7 +87,7 @@ pub const LIBRARY: &[(&str, f64, f64, f64, Option<f64>, &str)] = &[
         Some(1500.0),
         "through-hardened tool steel",
     ),
-    (
+    entry(
         "tungsten-carbide",
         600.0,
         0.22,
@@ -60,7 +95,7 @@ pub const LIBRARY: &[(&str, f64, f64, f64, Option<f64>, &str)] = &[
         None,
         "cemented WC, for stiff fine shots",
     ),
-    (
+    entry(
         "boron-carbide",
         450.0,
         0.17,
