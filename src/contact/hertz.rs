@@ -64,13 +64,13 @@ pub fn peak_overlap(m_eff: f64, k: f64, v: f64) -> f64 {
 }
 
 /// Duration (s) of an undamped Hertz impact at normal speed `v` (m/s):
-/// `t_c = 2.94326 delta_max / v` (the constant is `0.8 B(2/5, 1/2)`).
+/// `t_c = 2.94328 delta_max / v` (the constant is `0.8 B(2/5, 1/2)`).
 pub fn contact_time(m_eff: f64, k: f64, v: f64) -> f64 {
     HERTZ_TIME_CONSTANT * peak_overlap(m_eff, k, v) / v
 }
 
 /// `2 * integral_0^1 (1 - x^(5/2))^(-1/2) dx = 0.8 B(2/5, 1/2)`.
-pub const HERTZ_TIME_CONSTANT: f64 = 2.943_259_7;
+pub const HERTZ_TIME_CONSTANT: f64 = 2.943_275_184_324_7;
 
 /// Rebound speed ratio of the dimensionless Tsuji impact for damping factor `alpha`.
 pub fn restitution_for_damping(alpha: f64) -> f64 {

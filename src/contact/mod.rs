@@ -67,7 +67,7 @@ impl WallContact {
     pub fn geometry(&self, pos: &Vec3, radius: f64) -> Option<WallGeom> {
         let rel = pos - self.exit;
         let s = rel.dot(&self.axis);
-        if s < -self.length || s > 0.0 {
+        if s < -self.length - crate::flow::jet::INLET_TOLERANCE || s > 0.0 {
             return None;
         }
         let radial = rel - self.axis * s;

@@ -9,6 +9,10 @@
 
 use crate::Vec3;
 
+/// Tolerance (m) of the bore's inlet plane: a centre placed in the inlet plane belongs
+/// to the bore even when `standoff + length - standoff` rounds to a hair above `length`.
+pub const INLET_TOLERANCE: f64 = 1e-9;
+
 /// One of the jet's regions (model-notes table "Jet regions").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Region {
@@ -120,7 +124,7 @@ impl JetField {
         let d = self.bore;
         let (s, r) = (c.s, c.r);
         if s < 0.0 {
-            if s >= -self.length && r <= 0.5 * d {
+            if s >= -self.length - INLET_TOLERANCE && r <= 0.5 * d {
                 Region::Nozzle
             } else {
                 Region::Outside
@@ -166,7 +170,7 @@ impl JetField {
         let (s, r) = (c.s, c.r);
         match region {
             // The bore's open end at the exit plane belongs to the core: margin -s.
-            Region::Nozzle => (s + self.length).min(-s).min(0.5 * d - r),
+            Region::Nozzle => (s + self.length + INLET_TOLERANCE).min(-s).min(0.5 * d - r),
             Region::Core => s.min(5.0 * d - s).min((5.0 * d - s) / 10.0 - r),
             Region::Mixing => s
                 .min(5.0 * d - s)
@@ -280,6 +284,10 @@ mod tests {
         assert_eq!(f.region_of(&at(&f, -0.02, 0.0)), Region::Nozzle);
         assert_eq!(f.region_of(&at(&f, -0.02, 0.004)), Region::Outside);
         assert_eq!(f.region_of(&at(&f, -0.05, 0.0)), Region::Outside);
+        // The inlet plane belongs to the bore, whatever the rounding of its height.
+        let inlet = f.coords(&Vec3::new(0.0, 0.0, 0.14));
+        assert_eq!(f.region_of(&inlet), Region::Nozzle);
+        assert!(f.margin(&inlet, Region::Nozzle) >= 0.0);
         assert_eq!(f.region_of(&at(&f, 0.0, 0.0)), Region::Core);
         assert_eq!(f.region_of(&at(&f, 0.0, 0.5 * d)), Region::Core); // the lip
         assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.25 * d)), Region::Core);

@@ -467,6 +467,22 @@ pub fn advance(
     scratch: &mut Scratch,
     out: &mut IslandOutput,
 ) {
+    advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut |_, _| {});
+}
+
+/// [`advance`], calling `observer(t, y)` after every accepted step, where `y` holds the
+/// members' states as `[x, y, z, vx, vy, vz]` per member (SI). For tests and probes.
+#[allow(clippy::too_many_arguments)]
+pub fn advance_observed(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    t0: f64,
+    t1: f64,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    observer: &mut dyn FnMut(f64, &[f64]),
+) {
     let ctx = Ctx { phys };
     let n = members.len();
     scratch.dopri.resize(6 * n);
@@ -659,6 +675,7 @@ pub fn advance(
         } else {
             controller.max(h_wanted)
         };
+        observer(t, y);
         ctx.update_separations(members, pairs, y);
         for (i, m) in members.iter_mut().enumerate() {
             if m.is_active() && t >= m.t_start && !phys.domain.contains(&pos(y, i)) {
