@@ -74,9 +74,11 @@ fn run_scene(a: RunArgs) -> Result<()> {
             .build_global()
             .context("cannot set up the worker threads")?;
     }
-    output::prepare_dir(&a.out, a.force)?;
+    // Everything that can reject the scene (incl. shot placement) runs before the output
+    // directory is touched.
     let effects = scene.effects();
     let sim = Simulation::new(&scene, &effects)?;
+    output::prepare_dir(&a.out, a.force)?;
     let bar = if a.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
     } else {

@@ -326,10 +326,19 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
     let column = text[line_start..offset].chars().count() + 1;
-    let table = before
-        .lines()
-        .rev()
-        .map(str::trim)
+    // Internally tagged tables (feeds, size distributions) report errors at the table
+    // header: find the offending `key = value` line below it by the value in the message.
+    let (line, line_start, column) = locate_value(
+        text,
+        &e.message().replace('\n', " "),
+        line,
+        line_start,
+        column,
+    );
+    let here = text[line_start..].lines().next().unwrap_or("").trim();
+    let table = if here.starts_with('[') { here } else { "" };
+    let table = std::iter::once(table)
+        .chain(text[..line_start].lines().rev().map(str::trim))
         .find(|l| l.starts_with('['))
         .map(|l| l.trim_matches(|c| c == '[' || c == ']').to_string())
         .unwrap_or_default();
@@ -387,6 +396,42 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
         column,
         message,
     }
+}
+
+fn locate_value(
+    text: &str,
+    msg: &str,
+    line: usize,
+    line_start: usize,
+    column: usize,
+) -> (usize, usize, usize) {
+    let header = text[line_start..].trim_start().starts_with('[');
+    if !header || !(msg.starts_with("invalid type") || msg.starts_with("invalid value")) {
+        return (line, line_start, column);
+    }
+    let needle = if let Some(i) = msg.find("string \"") {
+        let rest = &msg[i + 7..];
+        rest.find("\", expected").map(|j| rest[..=j].to_string())
+    } else {
+        msg.split('`').nth(1).map(str::to_string)
+    };
+    let Some(needle) = needle else {
+        return (line, line_start, column);
+    };
+    let mut start = line_start;
+    for (k, l) in text[line_start..].lines().enumerate() {
+        if k > 0 && l.trim_start().starts_with('[') {
+            break;
+        }
+        if let Some((_, value)) = l.split_once('=') {
+            if value.trim().starts_with(needle.as_str()) {
+                let col = l.len() - l.trim_start().len() + 1;
+                return (line + k, start, col);
+            }
+        }
+        start += l.len() + 1;
+    }
+    (line, line_start, column)
 }
 
 fn key_on_line(text: &str, line_start: usize) -> String {

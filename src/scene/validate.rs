@@ -88,16 +88,34 @@ impl Checker<'_> {
     }
 }
 
-/// Closest candidate to `word`, if one is close enough to be a likely typo.
+/// A number for messages: up to 6 significant digits, no trailing zeros.
+pub fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (6 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// Closest candidate to `word`, if one is close enough to be a likely typo: Jaro-Winkler
+/// similarity >= 0.8 (transpositions, dropped letters) or Sorensen-Dice bigram
+/// similarity >= 0.6 (a missing prefix such as `gauge_`).
 pub fn did_you_mean<'a>(word: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    let w = word.to_lowercase();
     candidates
         .map(|c| {
-            (
-                strsim::jaro_winkler(&word.to_lowercase(), &c.to_lowercase()),
-                c,
-            )
+            let lc = c.to_lowercase();
+            let jw = strsim::jaro_winkler(&w, &lc);
+            let dice = strsim::sorensen_dice(&w, &lc);
+            let score = if jw >= 0.8 { jw } else { 0.0 }.max(if dice >= 0.6 { dice } else { 0.0 });
+            (score, c)
         })
-        .filter(|(s, _)| *s >= 0.8)
+        .filter(|(s, _)| *s > 0.0)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, c)| c)
 }
@@ -364,8 +382,8 @@ impl SceneFile {
                 "shots.diameter_mm",
                 format!(
                     "shots of {} mm do not fit the {} mm bore (nozzle.bore_mm): use shots smaller than the bore",
-                    d_max * 1e3,
-                    nozzle.bore * 1e3
+                    num(d_max * 1e3),
+                    num(nozzle.bore * 1e3)
                 ),
             ));
         }
@@ -413,11 +431,11 @@ impl SceneFile {
                     return Err(c.invalid(
                         &format!("{k}.radial_offset_mm"),
                         format!(
-                            "shot centres up to {} mm from the axis put {} mm shots into the bore wall (bore radius {} mm): keep radial_offset_mm[1] <= {:.4} mm",
-                            r1 * 1e3,
-                            d_max * 1e3,
-                            0.5 * nozzle.bore * 1e3,
-                            limit * 1e3
+                            "shot centres up to {} mm from the axis put {} mm shots into the bore wall (bore radius {} mm): keep radial_offset_mm[1] <= {} mm",
+                            num(r1 * 1e3),
+                            num(d_max * 1e3),
+                            num(0.5 * nozzle.bore * 1e3),
+                            num(limit * 1e3)
                         ),
                     ));
                 }

@@ -1,0 +1,143 @@
+//! Scene files: every tests/scenes/good/*.toml and examples/*.toml loads; every case of
+//! tests/scenes/bad/*.toml (cases separated by `+++` lines, the expected message part on
+//! a `#^` line) makes `peenflow run` exit with code 2 and one line naming the problem,
+//! without a panic and without creating the output directory.
+
+mod common;
+use common::*;
+use peenflow::scene::Scene;
+use std::fs;
+
+#[test]
+fn good_scenes_and_examples_load() {
+    let mut n = 0;
+    for dir in ["tests/scenes/good", "examples"] {
+        for entry in fs::read_dir(root().join(dir)).unwrap() {
+            let p = entry.unwrap().path();
+            if p.extension().is_some_and(|e| e == "toml") {
+                let scene = Scene::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                // Placement must succeed too.
+                peenflow::feed::initial_shots(&scene).unwrap_or_else(|e| panic!("{e}"));
+                n += 1;
+            }
+        }
+    }
+    assert!(n >= 10, "only {n} good scenes");
+}
+
+#[test]
+fn bad_scenes_get_one_clear_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut n = 0;
+    let mut files: Vec<_> = fs::read_dir(root().join("tests/scenes/bad"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    for file in files {
+        let text = fs::read_to_string(&file).unwrap();
+        for (k, case) in text.split("\n+++\n").enumerate() {
+            let expected: Vec<&str> = case
+                .lines()
+                .filter_map(|l| l.strip_prefix("#^"))
+                .map(str::trim)
+                .collect();
+            assert!(
+                !expected.is_empty(),
+                "{} case {k}: no #^ line",
+                file.display()
+            );
+            let case_file = tmp.path().join(format!("case{n}.toml"));
+            fs::write(&case_file, case).unwrap();
+            let out_dir = tmp.path().join(format!("out{n}"));
+            let o = peenflow(
+                &[
+                    "run",
+                    case_file.to_str().unwrap(),
+                    "--out",
+                    out_dir.to_str().unwrap(),
+                ],
+                tmp.path(),
+            );
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            let label = format!("{} case {k}", file.display());
+            assert_eq!(
+                o.status.code(),
+                Some(2),
+                "{label}: exit {:?}, stderr {stderr}",
+                o.status
+            );
+            assert!(!stderr.contains("panicked"), "{label}: panic: {stderr}");
+            assert_eq!(
+                stderr.trim().lines().count(),
+                1,
+                "{label}: not one line: {stderr}"
+            );
+            assert!(
+                stderr.contains(case_file.to_str().unwrap()),
+                "{label}: file not named: {stderr}"
+            );
+            for e in expected {
+                assert!(stderr.contains(e), "{label}: expected `{e}` in: {stderr}");
+            }
+            assert!(!out_dir.exists(), "{label}: output directory created");
+            n += 1;
+        }
+    }
+    assert!(n >= 25, "only {n} bad cases");
+}
+
+#[test]
+fn missing_scene_file_and_existing_output_dir_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = peenflow(&["run", "no-such-scene.toml"], tmp.path());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr.contains("no-such-scene.toml: cannot read the scene file"),
+        "{stderr}"
+    );
+
+    let out = tmp.path().join("out");
+    fs::create_dir(&out).unwrap();
+    fs::write(out.join("keep.txt"), "x").unwrap();
+    let scene = root().join("examples/single_shot.toml");
+    let o = peenflow(
+        &["run", scene.to_str().unwrap(), "--out", "out"],
+        tmp.path(),
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr.contains("output directory exists and is not empty; pass --force"),
+        "{stderr}"
+    );
+    let o = peenflow(
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            "out",
+            "--force",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success());
+    assert!(out.join("impacts.csv").exists() && out.join("keep.txt").exists());
+}
+
+#[test]
+fn init_writes_the_default_scene_which_loads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = peenflow(&["init", "my.toml"], tmp.path());
+    assert!(o.status.success());
+    let scene = Scene::load(&tmp.path().join("my.toml")).unwrap();
+    assert_eq!(
+        scene,
+        Scene::from_toml(peenflow::scene::DEFAULT_SCENE, &scene.path).unwrap()
+    );
+    // Refuses to overwrite.
+    let o = peenflow(&["init", "my.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+}
