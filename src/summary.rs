@@ -365,21 +365,10 @@ impl Summary {
                 let _ = writeln!(s, "  overflow    {:>5}", h.overflow);
             }
         }
-        let on: Vec<&str> = self
-            .effects
-            .iter()
-            .filter(|e| e.on)
-            .map(|e| e.name)
-            .collect();
-        let off: Vec<String> = self
-            .effects
-            .iter()
-            .filter(|e| !e.on)
-            .map(|e| format!("{} ({})", e.name, e.reason))
-            .collect();
-        let _ = writeln!(s, "effects on: {}", on.join(", "));
-        if !off.is_empty() {
-            let _ = writeln!(s, "effects off: {}", off.join(", "));
+        let _ = writeln!(s, "effects:");
+        for e in &self.effects {
+            let state = if e.on { "on" } else { "off" };
+            let _ = writeln!(s, "  {:<20} {state:<3}  {}", e.name, e.reason);
         }
         let _ = writeln!(
             s,

@@ -423,11 +423,11 @@ fn locate_value(
         if k > 0 && l.trim_start().starts_with('[') {
             break;
         }
-        if let Some((_, value)) = l.split_once('=') {
-            if value.trim().starts_with(needle.as_str()) {
-                let col = l.len() - l.trim_start().len() + 1;
-                return (line + k, start, col);
-            }
+        if let Some((_, value)) = l.split_once('=')
+            && value.trim().starts_with(needle.as_str())
+        {
+            let col = l.len() - l.trim_start().len() + 1;
+            return (line + k, start, col);
         }
         start += l.len() + 1;
     }
