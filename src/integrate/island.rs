@@ -457,6 +457,30 @@ impl Ctx<'_> {
     }
 }
 
+/// One Dormand-Prince trial step of length `h` from `(t, y)` into `y_new` / `err`.
+#[allow(clippy::too_many_arguments)]
+fn trial(
+    ctx: &Ctx<'_>,
+    dopri: &mut Dopri5,
+    members: &[ShotState],
+    pairs: &[IslandPair],
+    t: f64,
+    y: &[f64],
+    h: f64,
+    y_new: &mut [f64],
+    err: &mut [f64],
+    work: &mut WorkCounters,
+) {
+    dopri.step(
+        &mut |tt, yy: &[f64], dd: &mut [f64]| ctx.rhs(members, pairs, tt, yy, dd, work),
+        t,
+        y,
+        h,
+        y_new,
+        err,
+    );
+}
+
 /// Advances the island's `members` (with candidate `pairs`) from `t0` to `t1`.
 pub fn advance(
     phys: &Physics,
@@ -549,16 +573,7 @@ pub fn advance_observed(
         // Trial steps until the error is acceptable.
         let mut rejected = false;
         let err_norm = loop {
-            dopri.step(
-                &mut |tt, yy: &[f64], dd: &mut [f64]| {
-                    ctx.rhs(members, pairs, tt, yy, dd, &mut work)
-                },
-                t,
-                y,
-                h,
-                y_new,
-                err,
-            );
+            trial(&ctx, dopri, members, pairs, t, y, h, y_new, err, &mut work);
             let finite = y_new.iter().all(|v| v.is_finite());
             let e = if finite {
                 ctx.error_norm(members, t, y, err)
@@ -600,16 +615,7 @@ pub fn advance_observed(
                 if !(c > a + guard && c < b - guard) {
                     c = 0.5 * (a + b);
                 }
-                dopri.step(
-                    &mut |tt, yy: &[f64], dd: &mut [f64]| {
-                        ctx.rhs(members, pairs, tt, yy, dd, &mut work)
-                    },
-                    t,
-                    y,
-                    c,
-                    y_new,
-                    err,
-                );
+                trial(&ctx, dopri, members, pairs, t, y, c, y_new, err, &mut work);
                 work.steps_rejected += 1;
                 let gc = ctx.event_margin(members, pairs, t + c, y_new);
                 if gc < 0.0 {
@@ -630,16 +636,7 @@ pub fn advance_observed(
             }
             if b != h {
                 h = b;
-                dopri.step(
-                    &mut |tt, yy: &[f64], dd: &mut [f64]| {
-                        ctx.rhs(members, pairs, tt, yy, dd, &mut work)
-                    },
-                    t,
-                    y,
-                    h,
-                    y_new,
-                    err,
-                );
+                trial(&ctx, dopri, members, pairs, t, y, h, y_new, err, &mut work);
             }
         }
         // Accept.
