@@ -10,6 +10,7 @@
 pub mod cli;
 pub mod contact;
 pub mod counters;
+pub mod export;
 pub mod feed;
 pub mod flow;
 pub mod forces;

@@ -2,6 +2,8 @@
 //! temporary name and renamed when complete, so a killed run never leaves a truncated file.
 
 use crate::record::Impact;
+use crate::scene::Scene;
+use crate::sim::RunOutput;
 use crate::state::ShotState;
 use crate::summary::Summary;
 use serde::Serialize;
@@ -36,6 +38,9 @@ pub enum OutputError {
         /// Cause.
         source: std::io::Error,
     },
+    /// The HDF5 writer failed.
+    #[error(transparent)]
+    Hdf5(#[from] crate::export::hdf5::H5Error),
     /// CSV serialisation failed.
     #[error("{path}: cannot write CSV: {source}")]
     Csv {
@@ -197,17 +202,30 @@ impl From<&ShotState> for ShotRow {
     }
 }
 
-/// Writes impacts.csv, shots.csv and summary.json into `dir`.
+/// Writes impacts.csv, impacts.h5, shots.csv and summary.json into `dir`.
 pub fn write_run(
     dir: &Path,
-    impacts: &[Impact],
-    shots: &[ShotState],
+    scene: &Scene,
+    out: &RunOutput,
     summary: &Summary,
 ) -> Result<(), OutputError> {
     let p = dir.join("impacts.csv");
-    write_atomic(&p, &impacts_csv(impacts, &p)?)?;
+    write_atomic(&p, &impacts_csv(&out.impacts, &p)?)?;
     let p = dir.join("shots.csv");
-    write_atomic(&p, &csv_bytes(&p, shots.iter().map(ShotRow::from))?)?;
+    write_atomic(&p, &csv_bytes(&p, out.shots.iter().map(ShotRow::from))?)?;
+    crate::export::hdf5::write(
+        &dir.join("impacts.h5"),
+        &crate::export::hdf5::ImpactFileData {
+            scene_text: &scene.text,
+            scene_path: &scene.path,
+            title: &scene.title,
+            seed: scene.seed,
+            simulated_time: out.end_time,
+            impacts: &out.impacts,
+            shots: &out.shots,
+            summary,
+        },
+    )?;
     let p = dir.join("summary.json");
     let mut json = serde_json::to_vec_pretty(summary).expect("BUG: summary serialises");
     json.push(b'\n');

@@ -102,7 +102,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
         wall,
         rayon::current_num_threads(),
     );
-    output::write_run(&a.out, &out.impacts, &out.shots, &summary)?;
+    output::write_run(&a.out, &scene, &out, &summary)?;
     if !a.quiet {
         print!("{}", summary.text());
         println!(

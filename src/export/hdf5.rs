@@ -1,0 +1,534 @@
+//! impacts.h5: the run's impact records, shots and summary in HDF5, written with the
+//! pure-Rust `rust-hdf5` crate (no system library), read back by `peenflow export`.
+//!
+//! Layout (one 1-D dataset per field, the form h5py, pandas and ParaView's XDMF reader
+//! take most easily; every dataset has a `units` and a `description` attribute):
+//! ```text
+//! /                      attrs: format, tool, tool_version, seed, title, scene (TOML),
+//!                               scene_path, simulated_time_s, summary_json
+//! /impacts/<column>      the columns of impacts.csv, one value per impact
+//! /shots/<column>        every shot's final state (status_code: 0 active, 1 left the
+//!                        domain, 2 failed)
+//! /never_hit/<column>    the same columns for the shots that never reached the specimen
+//! /summary/normal_speed_histogram/{lower_edges, counts}, /summary/radius_histogram/...
+//! ```
+//! The file is written under a temporary name and renamed when closed.
+
+use crate::record::Impact;
+use crate::state::{ShotState, ShotStatus};
+use crate::summary::{Histogram, Summary};
+use rust_hdf5::{H5File, H5Group};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Format tag stored in the root attribute `format`.
+pub const FORMAT: &str = "peenflow-impacts/1";
+
+/// HDF5 errors, naming the file.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum H5Error {
+    /// Writing failed.
+    #[error("{path}: cannot write HDF5: {message}")]
+    Write {
+        /// File.
+        path: String,
+        /// Cause.
+        message: String,
+    },
+    /// Reading failed or the file is not a peenflow impact file.
+    #[error("{path}: cannot read impacts: {message}")]
+    Read {
+        /// File.
+        path: String,
+        /// Cause.
+        message: String,
+    },
+}
+
+/// One column: name, units, description, values.
+enum Column {
+    F64(&'static str, &'static str, &'static str, Vec<f64>),
+    U32(&'static str, &'static str, &'static str, Vec<u32>),
+    U8(&'static str, &'static str, &'static str, Vec<u8>),
+}
+
+fn impact_columns(v: &[Impact]) -> Vec<Column> {
+    use Column::*;
+    let f = |g: fn(&Impact) -> f64| v.iter().map(g).collect::<Vec<f64>>();
+    vec![
+        U32(
+            "shot",
+            "1",
+            "shot id (0-based, feed order)",
+            v.iter().map(|i| i.shot).collect(),
+        ),
+        F64("time_s", "s", "first-contact time", f(|i| i.time_s)),
+        F64(
+            "x_m",
+            "m",
+            "contact point x (specimen plane z = 0, jet axis x = y = 0)",
+            f(|i| i.x_m),
+        ),
+        F64("y_m", "m", "contact point y", f(|i| i.y_m)),
+        F64("z_m", "m", "contact point z", f(|i| i.z_m)),
+        F64(
+            "vx_m_s",
+            "m/s",
+            "velocity x at first contact",
+            f(|i| i.vx_m_s),
+        ),
+        F64(
+            "vy_m_s",
+            "m/s",
+            "velocity y at first contact",
+            f(|i| i.vy_m_s),
+        ),
+        F64(
+            "vz_m_s",
+            "m/s",
+            "velocity z at first contact",
+            f(|i| i.vz_m_s),
+        ),
+        F64("speed_m_s", "m/s", "impact speed", f(|i| i.speed_m_s)),
+        F64(
+            "normal_speed_m_s",
+            "m/s",
+            "normal impact speed towards the specimen",
+            f(|i| i.normal_speed_m_s),
+        ),
+        F64(
+            "angle_deg",
+            "deg",
+            "impact angle from the specimen normal",
+            f(|i| i.angle_deg),
+        ),
+        F64("diameter_m", "m", "shot diameter", f(|i| i.diameter_m)),
+        U8(
+            "first_hit",
+            "1",
+            "1: the shot's first impact, 0: a rebound hit",
+            v.iter().map(|i| i.first_hit).collect(),
+        ),
+        F64(
+            "tangential_speed_m_s",
+            "m/s",
+            "speed along the specimen",
+            f(|i| i.tangential_speed_m_s),
+        ),
+        F64(
+            "center_x_m",
+            "m",
+            "shot centre x at first contact",
+            f(|i| i.center_x_m),
+        ),
+        F64(
+            "center_y_m",
+            "m",
+            "shot centre y at first contact",
+            f(|i| i.center_y_m),
+        ),
+        F64(
+            "center_z_m",
+            "m",
+            "shot centre z at first contact",
+            f(|i| i.center_z_m),
+        ),
+        F64("mass_kg", "kg", "shot mass", f(|i| i.mass_kg)),
+        F64(
+            "kinetic_energy_j",
+            "J",
+            "kinetic energy at first contact",
+            f(|i| i.kinetic_energy_j),
+        ),
+        U32(
+            "collisions_before",
+            "1",
+            "shot-shot collisions before this impact",
+            v.iter().map(|i| i.collisions_before).collect(),
+        ),
+    ]
+}
+
+fn status_code(s: ShotStatus) -> u8 {
+    match s {
+        ShotStatus::Active => 0,
+        ShotStatus::LeftDomain => 1,
+        ShotStatus::Failed => 2,
+    }
+}
+
+fn shot_columns(v: &[&ShotState]) -> Vec<Column> {
+    use Column::*;
+    let f = |g: fn(&ShotState) -> f64| v.iter().map(|s| g(s)).collect::<Vec<f64>>();
+    vec![
+        U32("shot", "1", "shot id", v.iter().map(|s| s.id.0).collect()),
+        U8(
+            "status_code",
+            "1",
+            "0: active at the end, 1: left the domain, 2: stopped by a failure",
+            v.iter().map(|s| status_code(s.status)).collect(),
+        ),
+        F64(
+            "t_start_s",
+            "s",
+            "time the shot entered the run",
+            f(|s| s.t_start),
+        ),
+        F64(
+            "t_stop_s",
+            "s",
+            "time the shot was stopped (NaN: ran to the end)",
+            f(|s| s.t_stop.unwrap_or(f64::NAN)),
+        ),
+        U32(
+            "hits",
+            "1",
+            "specimen contacts",
+            v.iter().map(|s| s.hits).collect(),
+        ),
+        U32(
+            "collisions",
+            "1",
+            "shot-shot contacts",
+            v.iter().map(|s| s.collisions).collect(),
+        ),
+        U32(
+            "wall_contacts",
+            "1",
+            "nozzle-wall contacts",
+            v.iter().map(|s| s.wall_contacts).collect(),
+        ),
+        F64("x_m", "m", "final centre x", f(|s| s.pos.x)),
+        F64("y_m", "m", "final centre y", f(|s| s.pos.y)),
+        F64("z_m", "m", "final centre z", f(|s| s.pos.z)),
+        F64("vx_m_s", "m/s", "final velocity x", f(|s| s.vel.x)),
+        F64("vy_m_s", "m/s", "final velocity y", f(|s| s.vel.y)),
+        F64("vz_m_s", "m/s", "final velocity z", f(|s| s.vel.z)),
+        F64("diameter_m", "m", "diameter", f(|s| 2.0 * s.body.radius)),
+    ]
+}
+
+fn werr(path: &Path) -> impl Fn(rust_hdf5::Hdf5Error) -> H5Error + '_ {
+    move |e| H5Error::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result<(), H5Error> {
+    let e = werr(path);
+    for c in cols {
+        let (ds, units, desc) = match c {
+            Column::F64(n, u, d, v) => {
+                let ds = g
+                    .new_dataset::<f64>()
+                    .shape([v.len()])
+                    .create(n)
+                    .map_err(&e)?;
+                if !v.is_empty() {
+                    ds.write_raw(v).map_err(&e)?;
+                }
+                (ds, u, d)
+            }
+            Column::U32(n, u, d, v) => {
+                let ds = g
+                    .new_dataset::<u32>()
+                    .shape([v.len()])
+                    .create(n)
+                    .map_err(&e)?;
+                if !v.is_empty() {
+                    ds.write_raw(v).map_err(&e)?;
+                }
+                (ds, u, d)
+            }
+            Column::U8(n, u, d, v) => {
+                let ds = g
+                    .new_dataset::<u8>()
+                    .shape([v.len()])
+                    .create(n)
+                    .map_err(&e)?;
+                if !v.is_empty() {
+                    ds.write_raw(v).map_err(&e)?;
+                }
+                (ds, u, d)
+            }
+        };
+        ds.new_attr::<rust_hdf5::VarLenUnicode>()
+            .shape(())
+            .create("units")
+            .and_then(|a| a.write_string(units))
+            .map_err(&e)?;
+        ds.new_attr::<rust_hdf5::VarLenUnicode>()
+            .shape(())
+            .create("description")
+            .and_then(|a| a.write_string(desc))
+            .map_err(&e)?;
+    }
+    Ok(())
+}
+
+fn write_histogram(
+    g: &H5Group,
+    name: &str,
+    h: &Histogram,
+    units: &'static str,
+    path: &Path,
+) -> Result<(), H5Error> {
+    let e = werr(path);
+    let hg = g.create_group(name).map_err(&e)?;
+    hg.set_attr_string("quantity", &h.quantity).map_err(&e)?;
+    hg.set_attr_numeric("bin_width", &h.bin_width).map_err(&e)?;
+    hg.set_attr_numeric("overflow", &(h.overflow as u64))
+        .map_err(&e)?;
+    let counts: Vec<u64> = h.counts.iter().map(|&c| c as u64).collect();
+    write_columns(
+        &hg,
+        &[Column::F64(
+            "lower_edges",
+            units,
+            "lower bin edges",
+            h.lower_edges.clone(),
+        )],
+        path,
+    )?;
+    let ds = hg
+        .new_dataset::<u64>()
+        .shape([counts.len()])
+        .create("counts")
+        .map_err(&e)?;
+    ds.write_raw(&counts).map_err(&e)?;
+    Ok(())
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.tmp"))
+}
+
+/// Everything impacts.h5 holds.
+pub struct ImpactFileData<'a> {
+    /// Scene TOML text.
+    pub scene_text: &'a str,
+    /// Scene file name.
+    pub scene_path: &'a str,
+    /// Scene title.
+    pub title: &'a str,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated time, s.
+    pub simulated_time: f64,
+    /// Impacts.
+    pub impacts: &'a [Impact],
+    /// Final shot states.
+    pub shots: &'a [ShotState],
+    /// Run summary.
+    pub summary: &'a Summary,
+}
+
+/// Writes impacts.h5 atomically.
+pub fn write(path: &Path, d: &ImpactFileData<'_>) -> Result<(), H5Error> {
+    let tmp = temp_path(path);
+    let result = write_inner(&tmp, path, d);
+    match result {
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| H5Error::Write {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        }),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+fn write_inner(tmp: &Path, shown: &Path, d: &ImpactFileData<'_>) -> Result<(), H5Error> {
+    let e = werr(shown);
+    let file = H5File::create(tmp).map_err(&e)?;
+    file.set_attr_string("format", FORMAT).map_err(&e)?;
+    file.set_attr_string("tool", "peenflow").map_err(&e)?;
+    file.set_attr_string("tool_version", env!("CARGO_PKG_VERSION"))
+        .map_err(&e)?;
+    file.set_attr_numeric("seed", &d.seed).map_err(&e)?;
+    file.set_attr_string("title", d.title).map_err(&e)?;
+    file.set_attr_string("scene", d.scene_text).map_err(&e)?;
+    file.set_attr_string("scene_path", d.scene_path)
+        .map_err(&e)?;
+    file.set_attr_numeric("simulated_time_s", &d.simulated_time)
+        .map_err(&e)?;
+    let json = serde_json::to_string(d.summary).expect("BUG: summary serialises");
+    file.set_attr_string("summary_json", &json).map_err(&e)?;
+    let root = file.root_group();
+    let g = root.create_group("impacts").map_err(&e)?;
+    write_columns(&g, &impact_columns(d.impacts), shown)?;
+    let all: Vec<&ShotState> = d.shots.iter().collect();
+    let g = root.create_group("shots").map_err(&e)?;
+    write_columns(&g, &shot_columns(&all), shown)?;
+    let never: Vec<&ShotState> = d.shots.iter().filter(|s| s.hits == 0).collect();
+    let g = root.create_group("never_hit").map_err(&e)?;
+    write_columns(&g, &shot_columns(&never), shown)?;
+    let g = root.create_group("summary").map_err(&e)?;
+    g.set_attr_numeric("hit_fraction", &d.summary.hit_fraction)
+        .map_err(&e)?;
+    g.set_attr_numeric("shots", &(d.summary.shots as u64))
+        .map_err(&e)?;
+    g.set_attr_numeric("shots_hit", &(d.summary.shots_hit as u64))
+        .map_err(&e)?;
+    write_histogram(
+        &g,
+        "normal_speed_histogram",
+        &d.summary.normal_speed_histogram,
+        "m/s",
+        shown,
+    )?;
+    write_histogram(
+        &g,
+        "radius_histogram",
+        &d.summary.radius_histogram,
+        "mm",
+        shown,
+    )?;
+    file.close().map_err(&e)?;
+    Ok(())
+}
+
+/// What `peenflow export` needs from an impact file.
+#[derive(Debug, Clone)]
+pub struct ImpactFile {
+    /// Scene TOML text.
+    pub scene_text: String,
+    /// Seed.
+    pub seed: u64,
+    /// Tool version that wrote it.
+    pub tool_version: String,
+    /// Impact records.
+    pub impacts: Vec<Impact>,
+}
+
+/// Reads an impact file written by [`write`].
+pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
+    let shown = path.display().to_string();
+    let err = |m: String| H5Error::Read {
+        path: shown.clone(),
+        message: m,
+    };
+    if !path.exists() {
+        return Err(err("no such file".into()));
+    }
+    let file = H5File::open(path).map_err(|e| err(format!("not a readable HDF5 file ({e})")))?;
+    let format = file
+        .attr_string("format")
+        .map_err(|_| err("no `format` attribute: not written by peenflow".into()))?;
+    if format != FORMAT {
+        return Err(err(format!("format `{format}`, expected `{FORMAT}`")));
+    }
+    let scene_text = file
+        .attr_string("scene")
+        .map_err(|e| err(format!("attribute scene: {e}")))?;
+    let tool_version = file.attr_string("tool_version").unwrap_or_default();
+    // The root `seed` attribute is numeric for h5py users; the reader takes it from the
+    // stored summary, which carries the same value.
+    let summary: serde_json::Value = file
+        .attr_string("summary_json")
+        .ok()
+        .and_then(|s| serde_json::from_str(&s).ok())
+        .ok_or_else(|| err("attribute summary_json missing or not JSON".into()))?;
+    let seed = summary["seed"]
+        .as_u64()
+        .ok_or_else(|| err("summary_json has no seed".into()))?;
+    let f64s = |name: &str| -> Result<Vec<f64>, H5Error> {
+        file.dataset(&format!("impacts/{name}"))
+            .and_then(|d| {
+                if d.total_elements() == 0 {
+                    Ok(vec![])
+                } else {
+                    d.read_raw::<f64>()
+                }
+            })
+            .map_err(|e| err(format!("dataset impacts/{name}: {e}")))
+    };
+    let u32s = |name: &str| -> Result<Vec<u32>, H5Error> {
+        file.dataset(&format!("impacts/{name}"))
+            .and_then(|d| {
+                if d.total_elements() == 0 {
+                    Ok(vec![])
+                } else {
+                    d.read_raw::<u32>()
+                }
+            })
+            .map_err(|e| err(format!("dataset impacts/{name}: {e}")))
+    };
+    let shot = u32s("shot")?;
+    let n = shot.len();
+    let cols: Vec<Vec<f64>> = [
+        "time_s",
+        "x_m",
+        "y_m",
+        "z_m",
+        "vx_m_s",
+        "vy_m_s",
+        "vz_m_s",
+        "speed_m_s",
+        "normal_speed_m_s",
+        "angle_deg",
+        "diameter_m",
+        "tangential_speed_m_s",
+        "center_x_m",
+        "center_y_m",
+        "center_z_m",
+        "mass_kg",
+        "kinetic_energy_j",
+    ]
+    .iter()
+    .map(|c| f64s(c))
+    .collect::<Result<_, _>>()?;
+    let first_hit: Vec<u8> = file
+        .dataset("impacts/first_hit")
+        .and_then(|d| {
+            if d.total_elements() == 0 {
+                Ok(vec![])
+            } else {
+                d.read_raw::<u8>()
+            }
+        })
+        .map_err(|e| err(format!("dataset impacts/first_hit: {e}")))?;
+    let collisions = u32s("collisions_before")?;
+    if cols.iter().any(|c| c.len() != n) || first_hit.len() != n || collisions.len() != n {
+        return Err(err(
+            "impact columns have different lengths (corrupt file)".into()
+        ));
+    }
+    let impacts = (0..n)
+        .map(|k| Impact {
+            shot: shot[k],
+            time_s: cols[0][k],
+            x_m: cols[1][k],
+            y_m: cols[2][k],
+            z_m: cols[3][k],
+            vx_m_s: cols[4][k],
+            vy_m_s: cols[5][k],
+            vz_m_s: cols[6][k],
+            speed_m_s: cols[7][k],
+            normal_speed_m_s: cols[8][k],
+            angle_deg: cols[9][k],
+            diameter_m: cols[10][k],
+            first_hit: first_hit[k],
+            tangential_speed_m_s: cols[11][k],
+            center_x_m: cols[12][k],
+            center_y_m: cols[13][k],
+            center_z_m: cols[14][k],
+            mass_kg: cols[15][k],
+            kinetic_energy_j: cols[16][k],
+            collisions_before: collisions[k],
+        })
+        .collect();
+    Ok(ImpactFile {
+        scene_text,
+        seed,
+        tool_version,
+        impacts,
+    })
+}
