@@ -15,6 +15,7 @@ pub mod feed;
 pub mod flow;
 pub mod forces;
 pub mod integrate;
+pub mod mesh;
 pub mod output;
 pub mod record;
 pub mod scene;

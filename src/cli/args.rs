@@ -21,6 +21,8 @@ pub enum Command {
     Run(RunArgs),
     /// Write a commented scene file (the paper's Table 2 scene) to start from.
     Init(InitArgs),
+    /// Export impacts (from a run's impacts.h5) as FE decks, VTK or CSV.
+    Export(ExportArgs),
     /// List the built-in materials.
     Materials,
 }
@@ -45,6 +47,71 @@ pub struct RunArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Also export the impacts in these formats into the output directory
+    /// (abaqus, lsdyna, calculix, vtk, csv; default export options).
+    #[arg(long, value_delimiter = ',', num_args = 1..)]
+    pub export: Vec<String>,
+    /// Record shot positions every INTERVAL ms and write a ParaView series
+    /// (snapshots/shots.pvd).
+    #[arg(long, value_name = "INTERVAL_MS")]
+    pub snapshots: Option<f64>,
+}
+
+/// `peenflow export`.
+#[derive(Debug, clap::Args)]
+pub struct ExportArgs {
+    /// Impact file written by `peenflow run` (impacts.h5).
+    pub impacts: PathBuf,
+    /// Formats: abaqus, lsdyna, calculix, vtk, csv (comma-separated or repeated).
+    #[arg(short, long, value_delimiter = ',', num_args = 1.., required = true)]
+    pub format: Vec<String>,
+    /// Your own deck template (minijinja) instead of the built-in one.
+    #[arg(long)]
+    pub template: Option<PathBuf>,
+    /// Deck units: si (m, kg, s, Pa) or mm-t-s (mm, tonne, s, MPa).
+    #[arg(long, default_value = "mm-t-s")]
+    pub units: String,
+    /// Window on the specimen, mm: x0,y0,x1,y1.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        num_args = 4,
+        allow_negative_numbers = true
+    )]
+    pub window: Option<Vec<f64>>,
+    /// Time window, ms: t0,t1.
+    #[arg(long, value_delimiter = ',', num_args = 2)]
+    pub time_window: Option<Vec<f64>>,
+    /// Only first hits (no rebound hits).
+    #[arg(long)]
+    pub first_hits_only: bool,
+    /// The first N impacts (after the windows).
+    #[arg(long, conflicts_with = "sample")]
+    pub first: Option<usize>,
+    /// A random sample of N impacts (after the windows), drawn with --seed.
+    #[arg(long)]
+    pub sample: Option<usize>,
+    /// Seed of --sample (default: the run's seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Elastic meshed shots instead of rigid ones.
+    #[arg(long)]
+    pub elastic: bool,
+    /// Target material (default: the scene's specimen; it needs a yield strength).
+    #[arg(long)]
+    pub target_material: Option<String>,
+    /// Element size under the impacts, mm (default: shot radius / 4).
+    #[arg(long)]
+    pub element_size_mm: Option<f64>,
+    /// Shot mesh resolution: cells along each edge of the mapped cube (default 4 rigid, 6 elastic).
+    #[arg(long)]
+    pub shot_cells: Option<usize>,
+    /// Output directory.
+    #[arg(short, long)]
+    pub out: PathBuf,
+    /// Overwrite existing files.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `peenflow init`.

@@ -3,12 +3,13 @@
 
 pub mod args;
 
+use crate::export::{self, ExportRequest, deck::UnitSystem, select::Selection};
 use crate::output;
 use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
 use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
-pub use args::{Cli, Command, InitArgs, RunArgs};
+pub use args::{Cli, Command, ExportArgs, InitArgs, RunArgs};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
@@ -18,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Run(a) => run_scene(a),
         Command::Init(a) => init(a),
+        Command::Export(a) => export(a),
         Command::Materials => {
             println!(
                 "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
@@ -109,6 +111,75 @@ fn run_scene(a: RunArgs) -> Result<()> {
             "wrote {}/impacts.csv, shots.csv, summary.json",
             a.out.display()
         );
+    }
+    Ok(())
+}
+
+fn parse_formats(names: &[String]) -> Result<Vec<export::Format>> {
+    let mut v = Vec::new();
+    for n in names {
+        let f = export::Format::parse(n.trim()).with_context(|| {
+            format!(
+                "--format {n}: unknown format; allowed: {}",
+                export::Format::NAMES
+            )
+        })?;
+        if !v.contains(&f) {
+            v.push(f);
+        }
+    }
+    Ok(v)
+}
+
+fn export(a: ExportArgs) -> Result<()> {
+    let formats = parse_formats(&a.format)?;
+    let units = match a.units.as_str() {
+        "si" => UnitSystem::Si,
+        "mm-t-s" | "mm" => UnitSystem::MmTonneS,
+        other => bail!("--units {other}: unknown unit system; allowed: si, mm-t-s"),
+    };
+    if let Some(n) = a.shot_cells {
+        if !(2..=16).contains(&n) {
+            bail!("--shot-cells {n}: allowed 2 to 16");
+        }
+    }
+    if let Some(h) = a.element_size_mm {
+        if !(h > 0.0 && h.is_finite()) {
+            bail!("--element-size-mm {h}: allowed > 0");
+        }
+    }
+    let (file, scene) = export::read_impact_file(&a.impacts)?;
+    let selection = Selection {
+        window: a
+            .window
+            .as_ref()
+            .map(|w| [w[0] * 1e-3, w[1] * 1e-3, w[2] * 1e-3, w[3] * 1e-3]),
+        time_window: a.time_window.as_ref().map(|w| [w[0] * 1e-3, w[1] * 1e-3]),
+        first_hits_only: a.first_hits_only,
+        first: a.first,
+        sample: a.sample,
+        seed: a.seed.unwrap_or(file.seed),
+    };
+    let req = ExportRequest {
+        formats,
+        template: a.template,
+        units,
+        selection,
+        rigid_shots: !a.elastic,
+        shot_cells: a.shot_cells,
+        element_size: a.element_size_mm.map(|h| h * 1e-3),
+        target_material: a.target_material,
+        out: a.out,
+        force: a.force,
+    };
+    let written = export::export(
+        &file.impacts,
+        &scene,
+        &a.impacts.display().to_string(),
+        &req,
+    )?;
+    for p in written {
+        println!("wrote {}", p.display());
     }
     Ok(())
 }

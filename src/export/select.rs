@@ -1,0 +1,91 @@
+//! Which impacts go into an FE deck: a window on the specimen (a representative area),
+//! a time window, the first N, or a seeded random sample of N. Filters apply in that
+//! order; the result keeps time order.
+
+use crate::record::Impact;
+use rand::SeedableRng;
+use rand::seq::index::sample;
+use rand_chacha::ChaCha8Rng;
+
+/// Selection settings (SI).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Selection {
+    /// Contact points inside `[x0, x1] x [y0, y1]`, m.
+    pub window: Option<[f64; 4]>,
+    /// First-contact times inside `[t0, t1]`, s.
+    pub time_window: Option<[f64; 2]>,
+    /// Keep only first hits (no rebound hits).
+    pub first_hits_only: bool,
+    /// The first N remaining impacts in time.
+    pub first: Option<usize>,
+    /// A random sample of N remaining impacts, drawn with `seed`.
+    pub sample: Option<usize>,
+    /// Seed of the sample.
+    pub seed: u64,
+}
+
+impl Selection {
+    /// Applies the selection; the input must be sorted by time.
+    pub fn apply(&self, impacts: &[Impact]) -> Vec<Impact> {
+        let mut v: Vec<Impact> = impacts
+            .iter()
+            .filter(|i| {
+                self.window.is_none_or(|[x0, y0, x1, y1]| {
+                    i.x_m >= x0.min(x1)
+                        && i.x_m <= x0.max(x1)
+                        && i.y_m >= y0.min(y1)
+                        && i.y_m <= y0.max(y1)
+                })
+            })
+            .filter(|i| {
+                self.time_window
+                    .is_none_or(|[t0, t1]| i.time_s >= t0 && i.time_s <= t1)
+            })
+            .filter(|i| !self.first_hits_only || i.first_hit == 1)
+            .cloned()
+            .collect();
+        if let Some(n) = self.first {
+            v.truncate(n);
+        }
+        if let Some(n) = self.sample {
+            if n < v.len() {
+                let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+                let mut idx = sample(&mut rng, v.len(), n).into_vec();
+                idx.sort_unstable();
+                v = idx.into_iter().map(|k| v[k].clone()).collect();
+            }
+        }
+        v
+    }
+
+    /// One-line description for messages and deck headers.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some([x0, y0, x1, y1]) = self.window {
+            parts.push(format!(
+                "window x {}..{} mm, y {}..{} mm",
+                x0 * 1e3,
+                x1 * 1e3,
+                y0 * 1e3,
+                y1 * 1e3
+            ));
+        }
+        if let Some([t0, t1]) = self.time_window {
+            parts.push(format!("time {}..{} ms", t0 * 1e3, t1 * 1e3));
+        }
+        if self.first_hits_only {
+            parts.push("first hits only".into());
+        }
+        if let Some(n) = self.first {
+            parts.push(format!("first {n}"));
+        }
+        if let Some(n) = self.sample {
+            parts.push(format!("random sample of {n} (seed {})", self.seed));
+        }
+        if parts.is_empty() {
+            "all impacts".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
