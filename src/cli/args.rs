@@ -103,7 +103,8 @@ pub struct ExportArgs {
     /// Element size under the impacts, mm (default: shot radius / 4).
     #[arg(long)]
     pub element_size_mm: Option<f64>,
-    /// Shot mesh resolution: cells along each edge of the mapped cube (default 4 rigid, 6 elastic).
+    /// Shot mesh resolution: cells along each edge of the mapped cube (default 6; measured
+    /// with ccx: 4 lets the finer target surface slip between the shot's nodes).
     #[arg(long)]
     pub shot_cells: Option<usize>,
     /// Output directory.
