@@ -232,3 +232,24 @@ pub fn write_run(
     write_atomic(&p, &json)?;
     Ok(())
 }
+
+/// Writes a ParaView series: `dir/shots_NNNNN.vtp` per snapshot and `dir/shots.pvd`.
+pub fn write_snapshots(
+    dir: &Path,
+    snapshots: &[(f64, Vec<crate::export::vtk::SnapshotPoint>)],
+) -> Result<(), OutputError> {
+    fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut entries = Vec::new();
+    for (k, (t, pts)) in snapshots.iter().enumerate() {
+        let name = format!("shots_{k:05}.vtp");
+        write_atomic(
+            &dir.join(&name),
+            crate::export::vtk::snapshot_vtp(pts).as_bytes(),
+        )?;
+        entries.push((*t, name));
+    }
+    write_atomic(
+        &dir.join("shots.pvd"),
+        crate::export::vtk::pvd(&entries).as_bytes(),
+    )
+}

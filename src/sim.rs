@@ -17,6 +17,7 @@ use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact, WallContact};
 use crate::counters::WorkCounters;
+use crate::export::vtk::SnapshotPoint;
 use crate::flow::JetField;
 use crate::forces::{DragModel, ForceSet, GravityModel, LateralForceModel};
 use crate::integrate::island::{self, IslandOutput, IslandPair, Physics, Scratch};
@@ -96,6 +97,113 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
     }
 }
 
+/// Records shot positions at multiples of a snapshot interval, interpolating between
+/// accepted steps with cubic Hermite polynomials (positions and velocities at both ends).
+struct SnapshotTap {
+    interval: f64,
+    t_prev: f64,
+    y_prev: Vec<f64>,
+    members: Vec<(u32, f64, f64)>,
+    points: Vec<(u64, SnapshotPoint)>,
+}
+
+impl SnapshotTap {
+    fn new(interval: f64, t0: f64, members: &[ShotState]) -> Self {
+        let mut y_prev = Vec::with_capacity(6 * members.len());
+        for m in members {
+            y_prev.extend_from_slice(m.pos.as_slice());
+            y_prev.extend_from_slice(m.vel.as_slice());
+        }
+        SnapshotTap {
+            interval,
+            t_prev: t0,
+            y_prev,
+            members: members
+                .iter()
+                .map(|m| (m.id.0, 2.0 * m.body.radius, m.t_start))
+                .collect(),
+            points: Vec::new(),
+        }
+    }
+
+    fn on_step(&mut self, t: f64, y: &[f64]) {
+        let h = t - self.t_prev;
+        if h <= 0.0 {
+            return;
+        }
+        let k0 = (self.t_prev / self.interval).floor() as u64 + 1;
+        let k1 = (t / self.interval).floor() as u64;
+        for k in k0..=k1 {
+            let tk = k as f64 * self.interval;
+            let s = (tk - self.t_prev) / h;
+            let (h00, h10, h01, h11) = (
+                2.0 * s * s * s - 3.0 * s * s + 1.0,
+                s * s * s - 2.0 * s * s + s,
+                -2.0 * s * s * s + 3.0 * s * s,
+                s * s * s - s * s,
+            );
+            for (i, &(id, diameter, t_start)) in self.members.iter().enumerate() {
+                if tk < t_start {
+                    continue;
+                }
+                let (a, b) = (&self.y_prev[6 * i..6 * i + 6], &y[6 * i..6 * i + 6]);
+                let position = std::array::from_fn(|c| {
+                    h00 * a[c] + h10 * h * a[3 + c] + h01 * b[c] + h11 * h * b[3 + c]
+                });
+                let velocity = std::array::from_fn(|c| (1.0 - s) * a[3 + c] + s * b[3 + c]);
+                self.points.push((
+                    k,
+                    SnapshotPoint {
+                        shot: id,
+                        position,
+                        velocity,
+                        diameter,
+                    },
+                ));
+            }
+        }
+        self.t_prev = t;
+        self.y_prev.clear();
+        self.y_prev.extend_from_slice(y);
+    }
+}
+
+/// Advances an island, recording snapshots when asked.
+#[allow(clippy::too_many_arguments)]
+fn advance_island(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    t0: f64,
+    t1: f64,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    snapshot_interval: Option<f64>,
+) -> Vec<(u64, SnapshotPoint)> {
+    match snapshot_interval {
+        None => {
+            island::advance(phys, members, pairs, t0, t1, scratch, out);
+            Vec::new()
+        }
+        Some(dt) => {
+            let mut tap = SnapshotTap::new(dt, t0, members);
+            island::advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut |t, y| {
+                tap.on_step(t, y)
+            });
+            tap.points
+        }
+    }
+}
+
+/// What one island returns from a window: its members, its pairs by global key, its
+/// output, its snapshot points.
+type IslandResult = (
+    Vec<ShotState>,
+    Vec<((u32, u32), IslandPair)>,
+    IslandOutput,
+    Vec<(u64, SnapshotPoint)>,
+);
+
 /// Contact state of a shot pair that persists between windows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct PairState {
@@ -119,6 +227,8 @@ pub struct RunOutput {
     pub window_redos: u64,
     /// Simulated end time, s.
     pub end_time: f64,
+    /// Snapshots `(time, shots)` at the requested interval (empty when not asked for).
+    pub snapshots: Vec<(f64, Vec<SnapshotPoint>)>,
 }
 
 /// A run in progress.
@@ -134,6 +244,8 @@ pub struct Simulation {
     windows: u64,
     window_redos: u64,
     cells: CellList,
+    snapshot_interval: Option<f64>,
+    snapshot_points: Vec<(u64, SnapshotPoint)>,
 }
 
 impl Simulation {
@@ -163,6 +275,26 @@ impl Simulation {
             windows: 0,
             window_redos: 0,
             cells: CellList::default(),
+            snapshot_interval: None,
+            snapshot_points: Vec::new(),
+        }
+    }
+
+    /// Records shot positions every `interval` seconds (for ParaView series).
+    pub fn record_snapshots(&mut self, interval: f64) {
+        self.snapshot_interval = Some(interval);
+        for s in &self.shots {
+            if s.t_start <= 0.0 {
+                self.snapshot_points.push((
+                    0,
+                    SnapshotPoint {
+                        shot: s.id.0,
+                        position: [s.pos.x, s.pos.y, s.pos.z],
+                        velocity: [s.vel.x, s.vel.y, s.vel.z],
+                        diameter: 2.0 * s.body.radius,
+                    },
+                ));
+            }
         }
     }
 
@@ -192,7 +324,9 @@ impl Simulation {
             .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
         self.events
             .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
+        let snapshots = self.collect_snapshots();
         RunOutput {
+            snapshots,
             impacts: self.impacts,
             shots: self.shots,
             events: self.events,
@@ -203,19 +337,46 @@ impl Simulation {
         }
     }
 
+    /// Groups the recorded points by snapshot, dropping shots already stopped.
+    fn collect_snapshots(&mut self) -> Vec<(f64, Vec<SnapshotPoint>)> {
+        let Some(dt) = self.snapshot_interval else {
+            return Vec::new();
+        };
+        let mut pts = std::mem::take(&mut self.snapshot_points);
+        pts.sort_by_key(|(k, p)| (*k, p.shot));
+        let mut out: Vec<(f64, Vec<SnapshotPoint>)> = Vec::new();
+        for (k, p) in pts {
+            let t = k as f64 * dt;
+            if t > self.end + 0.5 * dt {
+                continue;
+            }
+            if let Some(stop) = self.shots[p.shot as usize].t_stop
+                && t > stop
+            {
+                continue;
+            }
+            match out.last_mut() {
+                Some((tl, v)) if *tl == t => v.push(p),
+                _ => out.push((t, vec![p])),
+            }
+        }
+        out
+    }
+
     /// No shot-shot contact: every shot flies alone over the whole run.
     fn run_independent(&mut self, progress: &(dyn Fn(f64) + Sync)) {
         let phys = &self.physics;
         let end = self.end;
         let total = self.shots.len().max(1) as f64;
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let outputs: Vec<IslandOutput> = self
+        let snap = self.snapshot_interval;
+        let outputs: Vec<(IslandOutput, Vec<(u64, SnapshotPoint)>)> = self
             .shots
             .par_iter_mut()
             .map_init(Scratch::default, |scratch, shot| {
                 let mut out = IslandOutput::default();
                 let t0 = shot.t_start.min(end);
-                island::advance(
+                let pts = advance_island(
                     phys,
                     std::slice::from_mut(shot),
                     &mut [],
@@ -223,15 +384,17 @@ impl Simulation {
                     end,
                     scratch,
                     &mut out,
+                    snap,
                 );
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress(n as f64 / total);
-                out
+                (out, pts)
             })
             .collect();
         self.windows = 1;
-        for o in outputs {
+        for (o, pts) in outputs {
             self.commit_output(o);
+            self.snapshot_points.extend(pts);
         }
     }
 
@@ -314,7 +477,7 @@ impl Simulation {
             // means the reach bound was beaten (e.g. a shot kicked by a collision).
             let ends: Vec<Vec3> = {
                 let mut pos = vec![Vec3::zeros(); self.shots.len()];
-                for (isl, (members, _, _)) in islands.iter().zip(&results) {
+                for (isl, (members, _, _, _)) in islands.iter().zip(&results) {
                     for (k, &gi) in isl.iter().enumerate() {
                         pos[gi] = members[k].pos;
                     }
@@ -352,10 +515,7 @@ impl Simulation {
         candidates: &HashSet<(u32, u32)>,
         t0: f64,
         t1: f64,
-    ) -> (
-        Vec<Vec<usize>>,
-        Vec<(Vec<ShotState>, Vec<((u32, u32), IslandPair)>, IslandOutput)>,
-    ) {
+    ) -> (Vec<Vec<usize>>, Vec<IslandResult>) {
         // Union-find over global indices (shot id == index).
         let n = self.shots.len();
         let mut parent: Vec<usize> = (0..n).collect();
@@ -392,6 +552,7 @@ impl Simulation {
             }
         }
         let phys = &self.physics;
+        let snap = self.snapshot_interval;
         let results = islands
             .par_iter()
             .zip(island_pairs.par_iter())
@@ -417,21 +578,27 @@ impl Simulation {
                     })
                     .collect();
                 let mut out = IslandOutput::default();
-                island::advance(phys, &mut members, &mut pairs, t0, t1, scratch, &mut out);
+                let pts = advance_island(
+                    phys,
+                    &mut members,
+                    &mut pairs,
+                    t0,
+                    t1,
+                    scratch,
+                    &mut out,
+                    snap,
+                );
                 let keyed = gpairs.iter().copied().zip(pairs).collect();
-                (members, keyed, out)
+                (members, keyed, out, pts)
             })
             .collect();
         (islands, results)
     }
 
     #[allow(clippy::type_complexity)]
-    fn commit_islands(
-        &mut self,
-        islands: &[Vec<usize>],
-        results: Vec<(Vec<ShotState>, Vec<((u32, u32), IslandPair)>, IslandOutput)>,
-    ) {
-        for (isl, (members, pairs, out)) in islands.iter().zip(results) {
+    fn commit_islands(&mut self, islands: &[Vec<usize>], results: Vec<IslandResult>) {
+        for (isl, (members, pairs, out, pts)) in islands.iter().zip(results) {
+            self.snapshot_points.extend(pts);
             for (k, m) in members.into_iter().enumerate() {
                 self.shots[isl[k]] = m;
             }

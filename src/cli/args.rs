@@ -55,6 +55,9 @@ pub struct RunArgs {
     /// (snapshots/shots.pvd).
     #[arg(long, value_name = "INTERVAL_MS")]
     pub snapshots: Option<f64>,
+    /// Target material of exported decks (default: the scene's specimen).
+    #[arg(long)]
+    pub target_material: Option<String>,
 }
 
 /// `peenflow export`.
@@ -80,7 +83,7 @@ pub struct ExportArgs {
     )]
     pub window: Option<Vec<f64>>,
     /// Time window, ms: t0,t1.
-    #[arg(long, value_delimiter = ',', num_args = 2)]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub time_window: Option<Vec<f64>>,
     /// Only first hits (no rebound hits).
     #[arg(long)]

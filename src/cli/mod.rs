@@ -79,7 +79,20 @@ fn run_scene(a: RunArgs) -> Result<()> {
     // Everything that can reject the scene (incl. shot placement) runs before the output
     // directory is touched.
     let effects = scene.effects();
-    let sim = Simulation::new(&scene, &effects)?;
+    let mut sim = Simulation::new(&scene, &effects)?;
+    let formats = parse_formats(&a.export)?;
+    if let Some(ms) = a.snapshots {
+        if !(ms > 0.0 && ms.is_finite()) {
+            bail!("--snapshots {ms}: allowed an interval > 0 ms");
+        }
+        let n = scene.duration / (ms * 1e-3);
+        if n > 100_000.0 {
+            bail!(
+                "--snapshots {ms}: {n:.0} snapshots; allowed at most 100000 (use a longer interval)"
+            );
+        }
+        sim.record_snapshots(ms * 1e-3);
+    }
     output::prepare_dir(&a.out, a.force)?;
     let bar = if a.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -105,12 +118,45 @@ fn run_scene(a: RunArgs) -> Result<()> {
         rayon::current_num_threads(),
     );
     output::write_run(&a.out, &scene, &out, &summary)?;
+    if !out.snapshots.is_empty() {
+        output::write_snapshots(&a.out.join("snapshots"), &out.snapshots)?;
+    }
+    let mut exported = Vec::new();
+    if !formats.is_empty() {
+        let req = ExportRequest {
+            formats,
+            template: None,
+            units: UnitSystem::MmTonneS,
+            selection: Selection {
+                seed: scene.seed,
+                ..Selection::default()
+            },
+            rigid_shots: true,
+            shot_cells: None,
+            element_size: None,
+            target_material: a.target_material.clone(),
+            out: a.out.clone(),
+            force: true,
+        };
+        let source = a.out.join("impacts.h5").display().to_string();
+        exported = export::export(&out.impacts, &scene, &source, &req)?;
+    }
     if !a.quiet {
         print!("{}", summary.text());
         println!(
-            "wrote {}/impacts.csv, shots.csv, summary.json",
+            "wrote {}/impacts.csv, impacts.h5, shots.csv, summary.json",
             a.out.display()
         );
+        if !out.snapshots.is_empty() {
+            println!(
+                "wrote {} snapshots: {}/snapshots/shots.pvd (open in ParaView)",
+                out.snapshots.len(),
+                a.out.display()
+            );
+        }
+        for p in exported {
+            println!("wrote {}", p.display());
+        }
     }
     Ok(())
 }
@@ -138,15 +184,25 @@ fn export(a: ExportArgs) -> Result<()> {
         "mm-t-s" | "mm" => UnitSystem::MmTonneS,
         other => bail!("--units {other}: unknown unit system; allowed: si, mm-t-s"),
     };
-    if let Some(n) = a.shot_cells {
-        if !(2..=16).contains(&n) {
-            bail!("--shot-cells {n}: allowed 2 to 16");
-        }
+    if let Some(n) = a.shot_cells
+        && !(2..=16).contains(&n)
+    {
+        bail!("--shot-cells {n}: allowed 2 to 16");
     }
-    if let Some(h) = a.element_size_mm {
-        if !(h > 0.0 && h.is_finite()) {
-            bail!("--element-size-mm {h}: allowed > 0");
-        }
+    if let Some(h) = a.element_size_mm
+        && !(h > 0.0 && h.is_finite())
+    {
+        bail!("--element-size-mm {h}: allowed > 0");
+    }
+    if let Some(w) = &a.window
+        && (w.len() != 4 || w.iter().any(|v| !v.is_finite()))
+    {
+        bail!("--window {w:?}: give four numbers x0,y0,x1,y1 in mm");
+    }
+    if let Some(w) = &a.time_window
+        && (w.len() != 2 || w.iter().any(|v| !v.is_finite()))
+    {
+        bail!("--time-window {w:?}: give two numbers t0,t1 in ms");
     }
     let (file, scene) = export::read_impact_file(&a.impacts)?;
     let selection = Selection {

@@ -222,12 +222,12 @@ pub fn export(
             vtk::mesh_vtu(&model.mesh, &["ALL"]).into_bytes(),
         ));
     }
-    if !req.force {
-        if let Some((p, _)) = files.iter().find(|(p, _)| p.exists()) {
-            return Err(ExportError::Exists {
-                path: p.display().to_string(),
-            });
-        }
+    if !req.force
+        && let Some((p, _)) = files.iter().find(|(p, _)| p.exists())
+    {
+        return Err(ExportError::Exists {
+            path: p.display().to_string(),
+        });
     }
     std::fs::create_dir_all(&req.out).map_err(|source| OutputError::Io {
         path: req.out.display().to_string(),

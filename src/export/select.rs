@@ -47,13 +47,13 @@ impl Selection {
         if let Some(n) = self.first {
             v.truncate(n);
         }
-        if let Some(n) = self.sample {
-            if n < v.len() {
-                let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-                let mut idx = sample(&mut rng, v.len(), n).into_vec();
-                idx.sort_unstable();
-                v = idx.into_iter().map(|k| v[k].clone()).collect();
-            }
+        if let Some(n) = self.sample
+            && n < v.len()
+        {
+            let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+            let mut idx = sample(&mut rng, v.len(), n).into_vec();
+            idx.sort_unstable();
+            v = idx.into_iter().map(|k| v[k].clone()).collect();
         }
         v
     }

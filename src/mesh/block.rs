@@ -114,7 +114,7 @@ mod tests {
     #[test]
     fn block_volume_sets_and_orientation() {
         let m = graded_block(&[0.0, 1.0, 3.0], &[0.0, 2.0], &[-1.0, -0.5, 0.0]);
-        assert_eq!(m.elements.len(), 2 * 1 * 2);
+        assert_eq!(m.elements.len(), 2 * 2);
         assert!((m.volume(None) - 3.0 * 2.0 * 1.0).abs() < 1e-12);
         assert!(m.min_scaled_jacobian() > 0.99);
         assert_eq!(m.node_sets["TOP"].len(), 6);

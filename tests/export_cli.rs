@@ -1,0 +1,226 @@
+//! `peenflow export` and `peenflow run --export/--snapshots` from the command line:
+//! VTK outputs read back, snapshot positions against direct runs, and bad input (missing
+//! or corrupt impacts.h5, a template with an undefined variable, an empty selection, an
+//! unknown format) getting one clear line, a non-zero exit and no partial output.
+
+mod common;
+use common::*;
+use std::fs;
+use std::path::Path;
+
+fn run_single(tmp: &Path) {
+    let scene = root().join("examples/single_shot.toml");
+    let o = peenflow(&["run", scene.to_str().unwrap(), "--out", "run", "-q"], tmp);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+fn fails_cleanly(tmp: &Path, args: &[&str], expected: &str) {
+    let o = peenflow(args, tmp);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+    assert!(
+        stderr.contains(expected),
+        "{args:?}: expected `{expected}` in {stderr}"
+    );
+    assert!(!tmp.join("bad").exists(), "{args:?}: output created");
+}
+
+#[test]
+fn export_bad_input_gets_one_line_and_no_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    run_single(t);
+    fails_cleanly(
+        t,
+        &["export", "nope.h5", "-f", "calculix", "-o", "bad"],
+        "nope.h5: cannot read impacts: no such file",
+    );
+    fs::write(
+        t.join("corrupt.h5"),
+        b"\x89HDF\r\n\x1a\ngarbage garbage garbage",
+    )
+    .unwrap();
+    fails_cleanly(
+        t,
+        &["export", "corrupt.h5", "-f", "vtk", "-o", "bad"],
+        "corrupt.h5: cannot read impacts: not a readable HDF5 file",
+    );
+    fails_cleanly(
+        t,
+        &["export", "run/impacts.h5", "-f", "nastran", "-o", "bad"],
+        "--format nastran: unknown format; allowed: abaqus, lsdyna, calculix, vtk, csv",
+    );
+    fails_cleanly(
+        t,
+        &[
+            "export",
+            "run/impacts.h5",
+            "-f",
+            "vtk",
+            "--time-window",
+            "0,1",
+            "-o",
+            "bad",
+        ],
+        "the selection is empty: 1 impacts in the file, none with time 0..1 ms",
+    );
+    fs::write(
+        t.join("my.j2"),
+        "*HEADING\n{{ title }}\n{{ no_such_variable }}\n",
+    )
+    .unwrap();
+    fails_cleanly(
+        t,
+        &[
+            "export",
+            "run/impacts.h5",
+            "-f",
+            "calculix",
+            "--template",
+            "my.j2",
+            "--target-material",
+            "A5052",
+            "-o",
+            "bad",
+        ],
+        "my.j2: line 3: undefined value",
+    );
+    fails_cleanly(
+        t,
+        &["export", "run/impacts.h5", "-f", "calculix", "-o", "bad"],
+        "target material \"table2-steel\" has no yield strength: pass --target-material A5052",
+    );
+    // An existing output file is not overwritten without --force.
+    let o = peenflow(&["export", "run/impacts.h5", "-f", "vtk", "-o", "good"], t);
+    assert!(o.status.success());
+    let o = peenflow(&["export", "run/impacts.h5", "-f", "vtk", "-o", "good"], t);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("exists; pass --force"));
+}
+
+#[test]
+fn user_template_renders_with_the_model() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    run_single(t);
+    fs::write(
+        t.join("mine.j2"),
+        "{{ shots|length }} shot(s), {{ nodes|length }} nodes, v_z = {{ shots[0].velocity[2]|g }} {{ units.length }}/s\n",
+    )
+    .unwrap();
+    let o = peenflow(
+        &[
+            "export",
+            "run/impacts.h5",
+            "-f",
+            "abaqus",
+            "--template",
+            "mine.j2",
+            "--target-material",
+            "A5052",
+            "--units",
+            "si",
+            "-o",
+            "out",
+        ],
+        t,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = fs::read_to_string(t.join("out/abaqus.inp")).unwrap();
+    assert!(
+        text.starts_with("1 shot(s), ") && text.contains("v_z = -60.13"),
+        "{text}"
+    );
+}
+
+#[test]
+fn vtk_outputs_are_well_formed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let o = peenflow(
+        &[
+            "run",
+            "--out",
+            "run",
+            "-q",
+            "--snapshots",
+            "0.5",
+            "--export",
+            "vtk,calculix",
+            "--target-material",
+            "A5052",
+        ],
+        t,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let impacts = peenflow::export::hdf5::read(&t.join("run/impacts.h5"))
+        .unwrap()
+        .impacts;
+    let vtp = fs::read_to_string(t.join("run/impacts.vtp")).unwrap();
+    assert!(vtp.contains(&format!("NumberOfPoints=\"{}\"", impacts.len())));
+    assert!(vtp.contains("Name=\"velocity_m_s\" NumberOfComponents=\"3\""));
+    let pvd = fs::read_to_string(t.join("run/snapshots/shots.pvd")).unwrap();
+    assert_eq!(
+        pvd.matches("<DataSet").count(),
+        21,
+        "10 ms every 0.5 ms, from 0"
+    );
+    for k in 0..21 {
+        assert!(t.join(format!("run/snapshots/shots_{k:05}.vtp")).exists());
+    }
+    // Every VTK file is well-formed XML with consistent counts (python's XML parser), and
+    // meshio reads the FE model's unstructured grid.
+    let check = r#"
+import sys, glob, xml.etree.ElementTree as ET
+d = sys.argv[1]
+for f in glob.glob(d + "/*.vtp") + glob.glob(d + "/snapshots/*.vtp"):
+    piece = ET.parse(f).getroot().find("PolyData/Piece")
+    n = int(piece.get("NumberOfPoints"))
+    for a in piece.iter("DataArray"):
+        comps = int(a.get("NumberOfComponents", "1"))
+        vals = a.text.split() if a.text else []
+        if a.get("Name") in ("connectivity", "offsets"):
+            assert len(vals) == n, (f, a.get("Name"))
+        else:
+            assert len(vals) == n * comps, (f, a.get("Name"), len(vals), n, comps)
+try:
+    import meshio
+    m = meshio.read(d + "/fe_model.vtu")
+    assert len(m.points) > 100 and m.cells[0].type == "hexahedron"
+except ImportError:
+    pass
+print("ok")
+"#;
+    let o = std::process::Command::new("python3")
+        .args(["-c", check])
+        .arg(t.join("run"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn snapshot_positions_match_runs_that_stop_there() {
+    // The lone shot recorded every 0.5 ms (Hermite interpolation between steps) against
+    // runs of the same scene that end at those times: within 1 um.
+    let text = fs::read_to_string(root().join("examples/single_shot.toml")).unwrap();
+    let scene = peenflow::scene::Scene::from_toml(&text, "single").unwrap();
+    let mut sim = peenflow::sim::Simulation::new(&scene, &scene.effects()).unwrap();
+    sim.record_snapshots(0.5e-3);
+    let out = sim.run(&|_| {});
+    assert_eq!(out.snapshots.len(), 11);
+    for (t, pts) in out.snapshots.iter().skip(1).step_by(2) {
+        let mut s2 = scene.clone();
+        s2.duration = *t;
+        let direct = peenflow::sim::Simulation::new(&s2, &s2.effects())
+            .unwrap()
+            .run(&|_| {});
+        let p = direct.shots[0].pos;
+        let q = pts[0].position;
+        let d = ((p.x - q[0]).powi(2) + (p.y - q[1]).powi(2) + (p.z - q[2]).powi(2)).sqrt();
+        println!("t = {t}: snapshot vs direct {d:.3e} m");
+        assert!(d < 1e-6, "t = {t}: {d}");
+    }
+}

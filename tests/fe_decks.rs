@@ -1,0 +1,472 @@
+//! FE decks.
+//! * CalculiX: decks for one 70 m/s impact and for three shots arriving in sequence run
+//!   to completion in the real `ccx` (Debian calculix-ccx, installed by .ci/run), and the
+//!   physics is checked: every shot rebounds with a restitution in [0.1, 0.5] (a 0.8 mm
+//!   steel shot into A5052: measured 0.24-0.29 in the reference study), the target shows
+//!   plastic strain under the impacts, the energy balance closes within 5 %, and ccx's
+//!   initial kinetic energy matches 1/2 m v^2 of the exported shots within 10 %.
+//! * LS-DYNA: structural checks with an independent keyword reader (ansys-dyna-core).
+//! * Abaqus: every *INITIAL CONDITIONS line is exactly (set, dof, value); meshio reads the mesh.
+//! * Golden decks for a 3-impact fixture, byte for byte (PEENFLOW_BLESS=1 rewrites them).
+//! * SI and mm-t-s decks differ exactly by the unit factors.
+
+mod common;
+use common::*;
+use peenflow::export::deck::{self, DeckFormat, DeckSettings, UnitSystem};
+use peenflow::export::select::Selection;
+use peenflow::export::{ExportRequest, Format, export};
+use peenflow::record::Impact;
+use peenflow::scene::{Scene, material};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+/// Whether `cmd` can run (`probe` arguments). In CI a missing tool is a failure.
+fn have(cmd: &str, probe: &[&str]) -> bool {
+    let ok = Command::new(cmd)
+        .args(probe)
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty());
+    if !ok {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{cmd} missing in CI: .ci/run must install it"
+        );
+        eprintln!("SKIPPED: {cmd} is not installed (bash .ci/run installs it)");
+    }
+    ok
+}
+
+fn python_has(module: &str) -> bool {
+    have("python3", &["-c", &format!("import {module}")])
+}
+
+/// Runs a fixture scene and exports a deck; returns the output directory.
+fn run_and_export(tmp: &Path, fixture: &str, args: &[&str]) -> PathBuf {
+    let scene = root().join("tests/fixtures").join(fixture);
+    let o = peenflow(&["run", scene.to_str().unwrap(), "--out", "run", "-q"], tmp);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut a = vec!["export", "run/impacts.h5", "--out", "deck"];
+    a.extend_from_slice(args);
+    let o = peenflow(&a, tmp);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    tmp.join("deck")
+}
+
+/// One `*NODE PRINT` / `*EL PRINT` block of a ccx .dat file.
+struct Block {
+    what: String,
+    rows: Vec<Vec<f64>>,
+}
+
+fn parse_dat(text: &str) -> Vec<Block> {
+    let mut blocks: Vec<Block> = Vec::new();
+    let mut open = false;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(pos) = t.find("and time") {
+            blocks.push(Block {
+                what: t[..pos].trim().to_string(),
+                rows: vec![],
+            });
+            open = true;
+            continue;
+        }
+        let nums: Option<Vec<f64>> = t.split_whitespace().map(|x| x.parse().ok()).collect();
+        match (open, nums) {
+            (true, Some(v)) => blocks.last_mut().unwrap().rows.push(v),
+            _ => open = false,
+        }
+    }
+    blocks
+}
+
+struct CcxResult {
+    initial_energy: f64,
+    final_balance_percent: f64,
+    blocks: Vec<Block>,
+    seconds: f64,
+}
+
+fn run_ccx(dir: &Path) -> CcxResult {
+    let started = Instant::now();
+    let mut child = Command::new("ccx")
+        .args(["-i", "calculix"])
+        .env("OMP_NUM_THREADS", "2")
+        .current_dir(dir)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Hang guard only (timing is recorded in docs/fe-coupling.md, not asserted).
+    let out = loop {
+        if let Some(_status) = child.try_wait().unwrap() {
+            break child.wait_with_output().unwrap();
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(600),
+            "ccx did not finish in 10 minutes"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    let seconds = started.elapsed().as_secs_f64();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success() && stdout.contains("Job finished"),
+        "ccx failed:\n{}",
+        &stdout[stdout.len().saturating_sub(2000)..]
+    );
+    let value = |key: &str| -> Vec<f64> {
+        stdout
+            .lines()
+            .filter(|l| l.contains(key))
+            .map(|l| {
+                l.split('=')
+                    .nth(1)
+                    .unwrap()
+                    .trim()
+                    .trim_end_matches('%')
+                    .trim()
+                    .parse()
+                    .unwrap()
+            })
+            .collect()
+    };
+    let dat = std::fs::read_to_string(dir.join("calculix.dat")).unwrap();
+    CcxResult {
+        initial_energy: value("initial energy (at start of step)")[0],
+        final_balance_percent: *value("energy balance (relative)").last().unwrap(),
+        blocks: parse_dat(&dat),
+        seconds,
+    }
+}
+
+fn series<'a>(r: &'a CcxResult, what: &str) -> Vec<&'a Block> {
+    r.blocks
+        .iter()
+        .filter(|b| b.what.starts_with(what))
+        .collect()
+}
+
+/// The physics checks shared by the CalculiX tests.
+fn check_ccx_physics(r: &CcxResult, impacts: &[Impact]) {
+    // Kinetic energy of the exported shots, mJ (mm-t-s decks).
+    let ke: f64 = impacts.iter().map(|i| i.kinetic_energy_j * 1e3).sum();
+    println!(
+        "ccx: {:.1} s, initial energy {:.5} mJ (exported {ke:.5}), final balance {:.3} %",
+        r.seconds, r.initial_energy, r.final_balance_percent
+    );
+    assert!(
+        rel(r.initial_energy, ke) < 0.10,
+        "initial energy {} vs {ke}",
+        r.initial_energy
+    );
+    // Energy balance from the printed totals: kinetic + internal at the end vs the start.
+    let total = |k: usize| -> f64 {
+        [
+            "total internal energy for set TARGET",
+            "total kinetic energy for set TARGET",
+            "total internal energy for set SHOTS",
+            "total kinetic energy for set SHOTS",
+        ]
+        .iter()
+        .map(|w| {
+            let s = series(r, w);
+            let b = if k == usize::MAX {
+                s.last().unwrap()
+            } else {
+                s[k]
+            };
+            b.rows[0][0]
+        })
+        .sum()
+    };
+    let (e0, e1) = (total(0), total(usize::MAX));
+    println!("energy at first output {e0:.5}, at the end {e1:.5} mJ");
+    assert!(rel(e1, e0) < 0.05, "energy balance {e1} vs {e0}");
+    assert!(r.final_balance_percent.abs() < 5.0);
+    // Rebound: every reference node moves up at the end; restitution in [0.1, 0.5].
+    let v = series(r, "velocities (vx,vy,vz) for set REFNODES");
+    let (first, last) = (v[0], v.last().unwrap());
+    for (row0, row1) in first.rows.iter().zip(&last.rows) {
+        let e = -row1[3] / row0[3];
+        println!(
+            "node {}: vz {:.1} -> {:.1} mm/s, restitution {e:.3}",
+            row0[0], row0[3], row1[3]
+        );
+        assert!((0.1..=0.5).contains(&e), "restitution {e}");
+    }
+    // Plastic strain under the impacts.
+    let peeq = series(r, "equivalent plastic strain");
+    let max = peeq
+        .last()
+        .unwrap()
+        .rows
+        .iter()
+        .map(|row| row[2])
+        .fold(0.0, f64::max);
+    println!("peak equivalent plastic strain {max:.3}");
+    assert!(max > 0.01, "no plastic strain: {max}");
+}
+
+#[test]
+fn calculix_single_impact_runs_and_conserves_energy() {
+    if !have("ccx", &["-v"]) {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_export(
+        tmp.path(),
+        "single_impact.toml",
+        &["--format", "calculix", "--target-material", "A5052"],
+    );
+    let impacts = peenflow::export::hdf5::read(&tmp.path().join("run/impacts.h5"))
+        .unwrap()
+        .impacts;
+    assert_eq!(impacts.len(), 1);
+    assert!(rel(impacts[0].normal_speed_m_s, 70.0) < 1e-3);
+    let r = run_ccx(&dir);
+    check_ccx_physics(&r, &impacts);
+}
+
+#[test]
+fn calculix_three_shots_in_sequence() {
+    if !have("ccx", &["-v"]) {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = run_and_export(
+        tmp.path(),
+        "three_impacts.toml",
+        &["--format", "calculix", "--target-material", "A5052"],
+    );
+    let impacts = peenflow::export::hdf5::read(&tmp.path().join("run/impacts.h5"))
+        .unwrap()
+        .impacts;
+    assert_eq!(impacts.len(), 3);
+    let r = run_ccx(&dir);
+    check_ccx_physics(&r, &impacts);
+}
+
+/// Three impacts written by hand (not by a simulation: the goldens must not move with
+/// the physics).
+fn fixture_impacts() -> Vec<Impact> {
+    let shot = |id: u32, t: f64, x: f64, y: f64, v: [f64; 3]| {
+        Impact::new(
+            id,
+            t,
+            &peenflow::Vec3::new(x, y, 0.4e-3),
+            &peenflow::Vec3::new(v[0], v[1], v[2]),
+            0.4e-3,
+            7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
+            0,
+            true,
+        )
+    };
+    vec![
+        shot(4, 3.5e-3, 1.0e-3, -0.5e-3, [0.0, 0.0, -65.0]),
+        shot(7, 3.5005e-3, 1.8e-3, 0.2e-3, [3.0, -1.0, -58.0]),
+        shot(2, 3.501e-3, 0.9e-3, 0.6e-3, [-2.0, 4.0, -71.0]),
+    ]
+}
+
+fn fixture_request(out: &Path, formats: Vec<Format>, units: UnitSystem) -> ExportRequest {
+    ExportRequest {
+        formats,
+        template: None,
+        units,
+        selection: Selection::default(),
+        rigid_shots: true,
+        shot_cells: Some(2),
+        element_size: Some(0.4e-3),
+        target_material: Some("A5052".into()),
+        out: out.to_path_buf(),
+        force: true,
+    }
+}
+
+#[test]
+fn golden_decks_for_a_three_impact_fixture() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Scene::default_scene();
+    let formats = vec![
+        Format::Deck(DeckFormat::Abaqus),
+        Format::Deck(DeckFormat::LsDyna),
+        Format::Deck(DeckFormat::Calculix),
+    ];
+    export(
+        &fixture_impacts(),
+        &scene,
+        "fixture",
+        &fixture_request(tmp.path(), formats, UnitSystem::MmTonneS),
+    )
+    .unwrap();
+    let bless = std::env::var_os("PEENFLOW_BLESS").is_some();
+    for name in ["abaqus.inp", "lsdyna.k", "calculix.inp"] {
+        let got = std::fs::read_to_string(tmp.path().join(name)).unwrap();
+        let golden = root().join("tests/golden").join(name);
+        if bless {
+            std::fs::write(&golden, &got).unwrap();
+            continue;
+        }
+        let want = std::fs::read_to_string(&golden)
+            .unwrap_or_else(|_| panic!("{} missing: run with PEENFLOW_BLESS=1", golden.display()));
+        if got != want {
+            let line = got
+                .lines()
+                .zip(want.lines())
+                .position(|(a, b)| a != b)
+                .unwrap_or(0);
+            panic!(
+                "{name} differs from {} at line {}:\n got: {}\nwant: {}\n(review, then PEENFLOW_BLESS=1 cargo test --release --test fe_decks)",
+                golden.display(),
+                line + 1,
+                got.lines().nth(line).unwrap_or(""),
+                want.lines().nth(line).unwrap_or("")
+            );
+        }
+    }
+}
+
+fn deck_counts(impacts: &[Impact]) -> (usize, usize) {
+    let scene = Scene::default_scene();
+    let model = deck::build(
+        impacts,
+        &DeckSettings {
+            units: UnitSystem::MmTonneS,
+            rigid_shots: true,
+            shot_cells: 2,
+            element_size: Some(0.4e-3),
+            shot_material: scene.shot_material.clone(),
+            target_material: material::builtin("A5052").unwrap(),
+            source: "fixture".into(),
+            selection: "all".into(),
+        },
+    )
+    .unwrap();
+    (model.nodes.len(), model.mesh.elements.len())
+}
+
+#[test]
+fn lsdyna_and_abaqus_decks_pass_independent_readers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let impacts = fixture_impacts();
+    let formats = vec![
+        Format::Deck(DeckFormat::Abaqus),
+        Format::Deck(DeckFormat::LsDyna),
+    ];
+    export(
+        &impacts,
+        &Scene::default_scene(),
+        "fixture",
+        &fixture_request(tmp.path(), formats, UnitSystem::MmTonneS),
+    )
+    .unwrap();
+    let (nodes, elements) = deck_counts(&impacts);
+    let counts = [nodes.to_string(), elements.to_string(), "3".to_string()];
+    if python_has("ansys.dyna.core") {
+        let o = Command::new("python3")
+            .arg(root().join("tests/tools/check_lsdyna.py"))
+            .arg(tmp.path().join("lsdyna.k"))
+            .args(&counts)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    if python_has("meshio") {
+        let o = Command::new("python3")
+            .arg(root().join("tests/tools/check_abaqus.py"))
+            .arg(tmp.path().join("abaqus.inp"))
+            .args(&counts)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
+
+/// All numbers of a free-format deck line (fields separated by commas).
+fn numbers(line: &str) -> Vec<f64> {
+    line.split(',')
+        .filter_map(|f| f.trim().parse::<f64>().ok())
+        .collect()
+}
+
+#[test]
+fn si_and_mm_decks_differ_exactly_by_unit_factors() {
+    let impacts = fixture_impacts();
+    for fmt in [DeckFormat::Calculix, DeckFormat::Abaqus] {
+        let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+        export(
+            &impacts,
+            &Scene::default_scene(),
+            "fixture",
+            &fixture_request(a.path(), vec![Format::Deck(fmt)], UnitSystem::Si),
+        )
+        .unwrap();
+        export(
+            &impacts,
+            &Scene::default_scene(),
+            "fixture",
+            &fixture_request(b.path(), vec![Format::Deck(fmt)], UnitSystem::MmTonneS),
+        )
+        .unwrap();
+        let si = std::fs::read_to_string(a.path().join(fmt.file_name())).unwrap();
+        let mm = std::fs::read_to_string(b.path().join(fmt.file_name())).unwrap();
+        let (mut section, mut prev) = (String::new(), String::new());
+        let mut checked = 0;
+        for (ls, lm) in si.lines().zip(mm.lines()) {
+            if ls.starts_with('*') && !ls.starts_with("**") {
+                assert_eq!(ls, lm);
+                prev = std::mem::take(&mut section);
+                section = ls.split(',').next().unwrap().to_uppercase();
+                continue;
+            }
+            if ls.starts_with("**") {
+                continue;
+            }
+            let (ns, nm) = (numbers(ls), numbers(lm));
+            assert_eq!(ns.len(), nm.len(), "{ls} / {lm}");
+            // Expected factor mm-t-s / SI per column, by section.
+            let factors: Vec<f64> = match section.as_str() {
+                "*NODE" => vec![1.0, 1e3, 1e3, 1e3],
+                "*ELASTIC" => vec![1e-6, 1.0],
+                "*PLASTIC" => vec![1e-6, 1.0],
+                "*DENSITY" => vec![1e-12],
+                "*INITIAL CONDITIONS" => vec![1.0, 1e3],
+                "*DYNAMIC" => vec![1.0, 1.0],
+                "*SURFACE BEHAVIOR" => vec![1e-9],
+                _ => vec![1.0; ns.len()],
+            };
+            let _ = &prev;
+            let offset = ns.len().saturating_sub(factors.len());
+            for (k, (x, y)) in ns.iter().zip(&nm).enumerate() {
+                let f = if k >= offset {
+                    factors[k - offset]
+                } else {
+                    1.0
+                };
+                let want = x * f;
+                assert!(
+                    (y - want).abs() <= 1e-10 * want.abs().max(1e-300),
+                    "{section}: {ls} / {lm}: {y} vs {want}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000, "{checked}");
+        // The density line: the shot density (scaled for the meshed ball) in both.
+        assert!(si.contains("*DENSITY") && mm.contains("*DENSITY"));
+    }
+}
