@@ -645,12 +645,14 @@ pub fn fit(x: f64, width: usize) -> Option<String> {
         } else {
             None
         };
-        let best = match plain {
-            Some(p) if p.len() <= sci.len() => p,
-            _ => sci,
-        };
-        if best.len() <= width {
-            return Some(best);
+        // Plain decimals read best; exponents only when the plain form does not fit.
+        if let Some(p) = plain
+            && p.len() <= width
+        {
+            return Some(p);
+        }
+        if sci.len() <= width {
+            return Some(sci);
         }
     }
     None
