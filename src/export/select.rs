@@ -89,3 +89,79 @@ impl Selection {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Vec3;
+
+    fn impacts() -> Vec<Impact> {
+        (0..20)
+            .map(|k| {
+                let x = k as f64 * 1e-3;
+                Impact::new(
+                    k,
+                    k as f64 * 1e-4,
+                    &Vec3::new(x, -x, 4e-4),
+                    &Vec3::new(0.0, 0.0, -60.0),
+                    4e-4,
+                    2e-6,
+                    0,
+                    k % 3 != 0,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn filters_compose_in_order() {
+        let all = impacts();
+        let s = Selection {
+            window: Some([2.5e-3, -20e-3, 15.5e-3, 0.0]),
+            time_window: Some([0.0, 1.25e-3]),
+            ..Selection::default()
+        };
+        let ids: Vec<u32> = s.apply(&all).iter().map(|i| i.shot).collect();
+        assert_eq!(ids, vec![3, 4, 5, 6, 7, 8, 9, 10, 11, 12]);
+        let s = Selection {
+            first_hits_only: true,
+            first: Some(3),
+            ..Selection::default()
+        };
+        let ids: Vec<u32> = s.apply(&all).iter().map(|i| i.shot).collect();
+        assert_eq!(ids, vec![1, 2, 4]);
+    }
+
+    #[test]
+    fn sample_is_seeded_sorted_and_without_repeats() {
+        let all = impacts();
+        let s = Selection {
+            sample: Some(5),
+            seed: 9,
+            ..Selection::default()
+        };
+        let a: Vec<u32> = s.apply(&all).iter().map(|i| i.shot).collect();
+        let b: Vec<u32> = s.apply(&all).iter().map(|i| i.shot).collect();
+        assert_eq!(a, b);
+        assert_eq!(a.len(), 5);
+        assert!(a.windows(2).all(|w| w[0] < w[1]));
+        let other: Vec<u32> = Selection {
+            seed: 10,
+            ..s.clone()
+        }
+        .apply(&all)
+        .iter()
+        .map(|i| i.shot)
+        .collect();
+        assert_ne!(a, other);
+        assert_eq!(
+            Selection {
+                sample: Some(50),
+                ..Selection::default()
+            }
+            .apply(&all)
+            .len(),
+            20
+        );
+    }
+}
