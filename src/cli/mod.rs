@@ -204,6 +204,11 @@ fn export(a: ExportArgs) -> Result<()> {
     {
         bail!("--time-window {w:?}: give two numbers t0,t1 in ms");
     }
+    if a.elastic && formats.contains(&export::Format::Deck(export::deck::DeckFormat::Calculix)) {
+        eprintln!(
+            "peenflow: warning: CalculiX 2.20 crashes (segfault) on elastic-shot decks in our tests; rigid shots are the verified path (docs/fe-coupling.md)"
+        );
+    }
     let (file, scene) = export::read_impact_file(&a.impacts)?;
     let selection = Selection {
         window: a

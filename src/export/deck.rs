@@ -235,9 +235,10 @@ pub struct ShotCtx {
     pub node_range: [u32; 2],
     /// Outer faces.
     pub surface: Vec<Face>,
-    /// Rigid-body reference node (centre).
+    /// Reference node at the centre: the rigid body's, or the elastic ball's centre node
+    /// (even `shot_cells`; the node nearest the centre otherwise).
     pub ref_node: u32,
-    /// Rigid-body rotation node (CalculiX).
+    /// Rigid-body rotation node (CalculiX; 0 for elastic shots).
     pub rot_node: u32,
     /// Centre at the start of the step.
     pub start: [f64; 3],
@@ -421,8 +422,16 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         let ball = sphere::hex_sphere(start, r, s.shot_cells);
         let name = format!("SHOT{}", k + 1);
         let (dn, de) = mesh.append(&ball, &format!("{name}_"));
-        let ref_node = mesh.add_node(start);
-        let rot_node = mesh.add_node(start);
+        // Rigid shots get a reference and a rotation node at the centre (free nodes that
+        // *RIGID BODY ties to the ball); elastic shots use the ball's own centre node (a
+        // massless free node makes an explicit solver divide by zero: ccx segfaults).
+        let (ref_node, rot_node) = if s.rigid_shots {
+            (mesh.add_node(start), mesh.add_node(start))
+        } else {
+            let np = s.shot_cells + 1;
+            let c = s.shot_cells / 2;
+            (dn + 1 + (c + np * (c + np * c)) as u32, 0)
+        };
         let mass = rho_s * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
         let speed = i.speed_m_s;
         shots.push(ShotCtx {
