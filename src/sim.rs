@@ -208,6 +208,7 @@ type IslandResult = (
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct PairState {
     contact_time: f64,
+    onset: f64,
 }
 
 /// What a run produced.
@@ -574,6 +575,7 @@ impl Simulation {
                             b: local(b),
                             touching: st.is_some(),
                             contact_time: st.map_or(0.0, |s| s.contact_time),
+                            onset: st.map_or(0.0, |s| s.onset),
                         }
                     })
                     .collect();
@@ -608,6 +610,7 @@ impl Simulation {
                         key,
                         PairState {
                             contact_time: p.contact_time,
+                            onset: p.onset,
                         },
                     );
                 } else {

@@ -63,8 +63,12 @@ pub struct ShotState {
     pub on_specimen: bool,
     /// Step-duration estimate of the current specimen contact (Hertz time), s.
     pub specimen_contact_time: f64,
+    /// Onset time of the current specimen contact, s.
+    pub specimen_onset: f64,
     /// In contact with the nozzle wall.
     pub on_wall: bool,
+    /// Onset time of the current wall contact, s.
+    pub wall_onset: f64,
     /// Step-duration estimate of the current wall contact (Hertz time), s.
     pub wall_contact_time: f64,
     /// Next step size the error controller proposes, s.
@@ -98,7 +102,9 @@ impl ShotState {
             region: Region::Outside,
             on_specimen: false,
             specimen_contact_time: 0.0,
+            specimen_onset: 0.0,
             on_wall: false,
+            wall_onset: 0.0,
             wall_contact_time: 0.0,
             h_next: 0.0,
             hits: 0,

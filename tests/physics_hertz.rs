@@ -122,6 +122,7 @@ fn shot_on_shot(
         b: 1,
         touching: false,
         contact_time: 0.0,
+        onset: 0.0,
     }];
     let mut tr = Trace {
         t: vec![0.0],

@@ -158,6 +158,14 @@ fn run_scene(a: RunArgs) -> Result<()> {
             println!("wrote {}", p.display());
         }
     }
+    if !out.events.is_empty() {
+        // "Ran, but": the outputs are complete and finite, yet some shots were stopped.
+        eprintln!(
+            "peenflow: warning: {} shot(s) had to be stopped; see the events above and summary.json",
+            out.events.len()
+        );
+        std::process::exit(1);
+    }
     Ok(())
 }
 

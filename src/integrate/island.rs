@@ -51,6 +51,8 @@ pub struct IslandPair {
     pub touching: bool,
     /// Hertz duration estimate of the current contact, s.
     pub contact_time: f64,
+    /// Onset time of the current contact, s.
+    pub onset: f64,
 }
 
 /// What an island produced during a window.
@@ -274,6 +276,7 @@ impl Ctx<'_> {
                 let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                 m.specimen_contact_time =
                     hertz::contact_time(m.body.mass, k, (-v.z).max(MIN_CONTACT_SPEED));
+                m.specimen_onset = t;
                 m.hits += 1;
                 if m.hits == 1 {
                     m.steps_to_first_contact = Some(m.steps);
@@ -300,6 +303,7 @@ impl Ctx<'_> {
                 let k = w.law.stiffness(w.effective_radius(m.body.radius));
                 let vn = v.dot(&geo.outward).max(MIN_CONTACT_SPEED);
                 m.wall_contact_time = hertz::contact_time(m.body.mass, k, vn);
+                m.wall_onset = t;
                 m.wall_contacts += 1;
                 out.work.contact_onsets += 1;
                 changed = true;
@@ -316,6 +320,7 @@ impl Ctx<'_> {
                 let dist = dpos.norm();
                 if dist - bi.radius - bj.radius < 0.0 {
                     pr.touching = true;
+                    pr.onset = t;
                     let n = if dist > 0.0 { dpos / dist } else { Vec3::z() };
                     let closing = -(vel(y, j) - vel(y, i)).dot(&n);
                     let k = pc
@@ -337,10 +342,27 @@ impl Ctx<'_> {
     }
 
     /// Step cap (s) from contacts in progress and contacts being approached.
+    ///
+    /// An impact is resolved with `contact_steps` steps per Hertz duration. A contact that
+    /// has lasted more than three Hertz durations is persistent (a shot resting or
+    /// rolling): it is capped at a tenth of its current linearised oscillation period
+    /// `2 pi sqrt(m* / (1.5 K delta^(1/2)))` instead, leaving accuracy to the error
+    /// controller, so resting shots do not pay impact-sized steps forever.
     fn contact_cap(&self, members: &[ShotState], pairs: &[IslandPair], t: f64, y: &[f64]) -> f64 {
         let c = &self.phys.contacts;
         let n = self.phys.contact_steps;
         let mut cap = f64::INFINITY;
+        let in_contact = |tc: f64, onset: f64, overlap: f64, m_eff: f64, k: f64| -> f64 {
+            if t - onset <= 3.0 * tc {
+                return tc / n;
+            }
+            let k_lin = 1.5 * k * overlap.max(0.0).sqrt();
+            if k_lin > 0.0 {
+                0.1 * std::f64::consts::TAU * (m_eff / k_lin).sqrt()
+            } else {
+                tc / n
+            }
+        };
         // Approach: the step may end at most one contact-resolving step past the
         // ballistic touching time, so a contact is neither skipped nor entered deeply.
         let approach = |gap: f64, closing: f64, m_eff: f64, k: f64| -> f64 {
@@ -357,7 +379,15 @@ impl Ctx<'_> {
             let v = vel(y, i);
             if let Some(sp) = &c.specimen {
                 if m.on_specimen {
-                    cap = cap.min(m.specimen_contact_time / n);
+                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let overlap = -sp.gap(&p, m.body.radius);
+                    cap = cap.min(in_contact(
+                        m.specimen_contact_time,
+                        m.specimen_onset,
+                        overlap,
+                        m.body.mass,
+                        k,
+                    ));
                 } else {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                     cap = cap.min(approach(sp.gap(&p, m.body.radius), -v.z, m.body.mass, k));
@@ -365,7 +395,15 @@ impl Ctx<'_> {
             }
             if let Some(w) = &c.wall {
                 if m.on_wall {
-                    cap = cap.min(m.wall_contact_time / n);
+                    let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                    let overlap = w.geometry(&p, m.body.radius).map_or(0.0, |g| -g.gap);
+                    cap = cap.min(in_contact(
+                        m.wall_contact_time,
+                        m.wall_onset,
+                        overlap,
+                        m.body.mass,
+                        k,
+                    ));
                 } else if let Some(geo) = w.geometry(&p, m.body.radius) {
                     let k = w.law.stiffness(w.effective_radius(m.body.radius));
                     cap = cap.min(approach(geo.gap, v.dot(&geo.outward), m.body.mass, k));
@@ -378,13 +416,23 @@ impl Ctx<'_> {
                 if !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
-                if pr.touching {
-                    cap = cap.min(pr.contact_time / n);
-                    continue;
-                }
                 let (bi, bj) = (members[i].body, members[j].body);
                 let dpos = pos(y, j) - pos(y, i);
                 let dist = dpos.norm();
+                if pr.touching {
+                    let k = pc
+                        .law
+                        .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
+                    let overlap = bi.radius + bj.radius - dist;
+                    cap = cap.min(in_contact(
+                        pr.contact_time,
+                        pr.onset,
+                        overlap,
+                        effective_mass(bi.mass, bj.mass),
+                        k,
+                    ));
+                    continue;
+                }
                 if dist == 0.0 {
                     continue;
                 }
@@ -402,6 +450,69 @@ impl Ctx<'_> {
             }
         }
         cap
+    }
+
+    /// The first contact whose overlap exceeds half of the effective radius: Hertz contact
+    /// means nothing there (and a shot about to tunnel would get there first).
+    fn overlap_violation(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        t: f64,
+        y: &[f64],
+    ) -> Option<String> {
+        let c = &self.phys.contacts;
+        for (i, m) in members.iter().enumerate() {
+            if !moving(m, t) {
+                continue;
+            }
+            let p = pos(y, i);
+            let r = m.body.radius;
+            if let Some(sp) = &c.specimen {
+                let overlap = -sp.gap(&p, r);
+                if overlap > 0.5 * r {
+                    return Some(format!(
+                        "shot {} overlaps the specimen by {:.4} mm, {:.0} % of its radius",
+                        m.id.0,
+                        overlap * 1e3,
+                        100.0 * overlap / r
+                    ));
+                }
+            }
+            if let Some(w) = &c.wall {
+                if let Some(g) = w.geometry(&p, r) {
+                    if -g.gap > 0.5 * r {
+                        return Some(format!(
+                            "shot {} overlaps the nozzle wall by {:.4} mm, {:.0} % of its radius",
+                            m.id.0,
+                            -g.gap * 1e3,
+                            -100.0 * g.gap / r
+                        ));
+                    }
+                }
+            }
+        }
+        if c.pair.is_some() {
+            for pr in pairs {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if !moving(&members[i], t) || !moving(&members[j], t) {
+                    continue;
+                }
+                let (ri, rj) = (members[i].body.radius, members[j].body.radius);
+                let overlap = ri + rj - (pos(y, j) - pos(y, i)).norm();
+                let r_eff = PairContact::effective_radius(ri, rj);
+                if overlap > r_eff {
+                    return Some(format!(
+                        "shots {} and {} overlap by {:.4} mm, {:.0} % of their effective radius",
+                        members[i].id.0,
+                        members[j].id.0,
+                        overlap * 1e3,
+                        100.0 * overlap / r_eff
+                    ));
+                }
+            }
+        }
+        None
     }
 
     /// Separations: contacts whose overlap ended during the last step.
@@ -596,7 +707,14 @@ pub fn advance_observed(
             }
         };
         if err_norm.is_nan() {
-            fail_island(members, t, y, out, "the step size collapsed below 1e-15 s");
+            fail_island(
+                members,
+                t,
+                y,
+                out,
+                "the integrator's step size collapsed below 1e-15 s",
+                "loosen [integrator] tolerance, or check the materials' moduli and the shot sizes",
+            );
             break;
         }
         // Events inside the step: cut the step back to the first one.
@@ -673,6 +791,17 @@ pub fn advance_observed(
             controller.max(h_wanted)
         };
         observer(t, y);
+        if let Some(cause) = ctx.overlap_violation(members, pairs, t, y) {
+            fail_island(
+                members,
+                t,
+                y,
+                out,
+                &format!("{cause}: Hertz contact does not hold there"),
+                "the shots are too fast or the materials too soft for these sizes: check the materials' youngs_modulus_gpa and the speeds",
+            );
+            break;
+        }
         ctx.update_separations(members, pairs, y);
         for (i, m) in members.iter_mut().enumerate() {
             if m.is_active() && t >= m.t_start && !phys.domain.contains(&pos(y, i)) {
@@ -694,20 +823,15 @@ pub fn advance_observed(
     out.work.add(&work);
 }
 
-fn fail_island(members: &mut [ShotState], t: f64, y: &[f64], out: &mut IslandOutput, cause: &str) {
+fn fail_island(
+    members: &mut [ShotState],
+    t: f64,
+    y: &[f64],
+    out: &mut IslandOutput,
+    cause: &str,
+    suggestion: &str,
+) {
     for (i, m) in members.iter_mut().enumerate() {
-        if std::env::var_os("PEENFLOW_DEBUG").is_some() {
-            eprintln!(
-                "fail t={t} shot {} pos {:?} vel {:?} region {:?} spec {} wall {} tc {}",
-                m.id.0,
-                pos(y, i),
-                vel(y, i),
-                m.region,
-                m.on_specimen,
-                m.on_wall,
-                m.specimen_contact_time
-            );
-        }
         if moving(m, t) {
             m.status = ShotStatus::Failed;
             m.t_stop = Some(t);
@@ -717,7 +841,7 @@ fn fail_island(members: &mut [ShotState], t: f64, y: &[f64], out: &mut IslandOut
                 shot: m.id.0,
                 time_s: t,
                 cause: cause.to_string(),
-                suggestion: "loosen [integrator] tolerance or check the materials' moduli and the shot sizes".into(),
+                suggestion: suggestion.into(),
             });
         }
     }
