@@ -25,12 +25,14 @@ use crate::record::{Impact, RunEvent};
 use crate::scene::{Effects, Scene, SceneError};
 use crate::state::{ShotState, ShotStatus};
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 /// Longest synchronisation window, s.
 const MAX_WINDOW: f64 = 1e-4;
 /// Shortest synchronisation window, s.
 const MIN_WINDOW: f64 = 1e-8;
+/// Largest island the window length tries to keep (see `Simulation::window`).
+const MAX_ISLAND: usize = 32;
 
 /// Builds the stages a scene calls for, and nothing else.
 pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
@@ -247,6 +249,7 @@ pub struct Simulation {
     cells: CellList,
     snapshot_interval: Option<f64>,
     snapshot_points: Vec<(u64, SnapshotPoint)>,
+    last_window: f64,
 }
 
 impl Simulation {
@@ -267,7 +270,7 @@ impl Simulation {
         Simulation {
             physics,
             shots,
-            pairs: HashMap::new(),
+            pairs: HashMap::default(),
             t: 0.0,
             end,
             impacts: Vec::new(),
@@ -278,6 +281,7 @@ impl Simulation {
             cells: CellList::default(),
             snapshot_interval: None,
             snapshot_points: Vec::new(),
+            last_window: f64::INFINITY,
         }
     }
 
@@ -316,7 +320,8 @@ impl Simulation {
                 } else {
                     self.t + h
                 };
-                self.window(t1);
+                let t1 = self.window(t1);
+                self.last_window = t1 - self.t;
                 self.t = t1;
                 progress(self.t / self.end);
             }
@@ -426,32 +431,30 @@ impl Simulation {
                 .fold(f64::INFINITY, f64::min);
             return (next - self.t).clamp(MIN_WINDOW, MAX_WINDOW);
         }
-        (d_min / v_max.max(1e-9)).clamp(MIN_WINDOW, MAX_WINDOW)
+        // Grow by at most 4x per window: dense groups need short windows, and starting
+        // from a long one would make the first candidate search percolate.
+        (d_min / v_max.max(1e-9))
+            .min(4.0 * self.last_window)
+            .clamp(MIN_WINDOW, MAX_WINDOW)
     }
 
     /// Runs one synchronisation window `[self.t, t1]`.
-    fn window(&mut self, t1: f64) {
-        let t0 = self.t;
-        let h = t1 - t0;
-        self.windows += 1;
-        // Shots taking part: active and entering before the window ends.
-        let idx: Vec<usize> = (0..self.shots.len())
-            .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
-            .collect();
-        if idx.is_empty() {
-            return;
-        }
-        // Broad phase with reach-inflated radii.
+    /// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
+    /// margin for collision kicks) times span plus the body-force bound.
+    fn inflated_radius(&self, s: &ShotState, t0: f64, t1: f64) -> f64 {
+        let span = (t1 - s.t_start.max(t0)).max(0.0);
+        let speed = 1.5 * s.vel.norm();
+        let a = self.physics.forces.acceleration_bound(&s.body, speed + 1.0);
+        s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
+    }
+
+    /// Candidate pairs (global ids) for a window ending at `t1`: reach-inflated radii,
+    /// plus every pair in contact.
+    fn candidates(&mut self, idx: &[usize], t0: f64, t1: f64) -> HashSet<(u32, u32)> {
         let centres: Vec<Vec3> = idx.iter().map(|&i| self.shots[i].pos).collect();
         let inflated: Vec<f64> = idx
             .iter()
-            .map(|&i| {
-                let s = &self.shots[i];
-                let span = t1 - s.t_start.max(t0);
-                let speed = 1.5 * s.vel.norm();
-                let a = self.physics.forces.acceleration_bound(&s.body, speed + 1.0);
-                s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
-            })
+            .map(|&i| self.inflated_radius(&self.shots[i], t0, t1))
             .collect();
         self.work.neighbour_searches += 1;
         let mut candidates: HashSet<(u32, u32)> = self
@@ -465,13 +468,62 @@ impl Simulation {
                 )
             })
             .collect();
-        // Touching pairs always take part (they overlap, so the cell list finds them,
-        // but a shot that stopped meanwhile must not leave a stale entry behind).
+        candidates.extend(self.pairs.keys().copied());
+        candidates
+    }
+
+    /// Runs one synchronisation window from `self.t` to at most `t1`, and returns where
+    /// it ended. The window shrinks (by 4, a few times) while an island would hold more
+    /// than [`MAX_ISLAND`] shots: shots that may touch share a clock, so a large island
+    /// makes all its shots pay the smallest step among them. Islands held together by
+    /// contacts in progress cannot be split, and are accepted as they are.
+    fn window(&mut self, t1: f64) -> f64 {
+        let t0 = self.t;
+        let mut t1 = t1;
+        self.windows += 1;
+        // A shot that stopped meanwhile must not leave a stale contact behind.
         self.pairs.retain(|k, _| {
             self.shots[k.0 as usize].is_active() && self.shots[k.1 as usize].is_active()
         });
-        candidates.extend(self.pairs.keys().copied());
-        let _ = h;
+        let mut contact: Option<usize> = None;
+        // Shots taking part: active and entering before the (longest) window ends.
+        let all: Vec<usize> = (0..self.shots.len())
+            .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
+            .collect();
+        if all.is_empty() {
+            return t1;
+        }
+        // Candidates for the longest window; shorter windows only need a subset of them.
+        let widest = self.candidates(&all, t0, t1);
+        let mut reach = vec![0.0; self.shots.len()];
+        let (idx, mut candidates) = loop {
+            let idx: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|&i| self.shots[i].t_start < t1)
+                .collect();
+            for &i in &idx {
+                reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+            }
+            let candidates: HashSet<(u32, u32)> = widest
+                .iter()
+                .copied()
+                .filter(|&(a, b)| {
+                    let (a, b) = (a as usize, b as usize);
+                    (self.shots[a].pos - self.shots[b].pos).norm() < reach[a] + reach[b]
+                        || self.pairs.contains_key(&(a as u32, b as u32))
+                })
+                .collect();
+            let largest = self.largest_island(&idx, candidates.iter());
+            // Stop when islands are small, when they are mostly held together by contacts
+            // in progress (shrinking cannot split those), or at the shortest window.
+            let contact =
+                *contact.get_or_insert_with(|| self.largest_island(&idx, self.pairs.keys()));
+            if largest <= MAX_ISLAND.max(2 * contact) || t1 - t0 <= 4.0 * MIN_WINDOW {
+                break (idx, candidates);
+            }
+            t1 = t0 + 0.25 * (t1 - t0);
+        };
         loop {
             let (islands, results) = self.integrate_islands(&idx, &candidates, t0, t1);
             // Verify: an overlap at the window end between shots that were not paired
@@ -507,16 +559,47 @@ impl Simulation {
             self.commit_islands(&islands, results);
             break;
         }
+        t1
     }
 
-    #[allow(clippy::type_complexity)]
-    fn integrate_islands(
+    /// Size of the largest connected group of `idx` under `pairs` (union-find only).
+    fn largest_island<'a>(
+        &self,
+        idx: &[usize],
+        pairs: impl Iterator<Item = &'a (u32, u32)>,
+    ) -> usize {
+        let n = self.shots.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn find(p: &mut [u32], mut x: u32) -> u32 {
+            while p[x as usize] != x {
+                p[x as usize] = p[p[x as usize] as usize];
+                x = p[x as usize];
+            }
+            x
+        }
+        for &(a, b) in pairs {
+            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+            if ra != rb {
+                parent[ra.max(rb) as usize] = ra.min(rb);
+            }
+        }
+        let mut size = vec![0u32; n];
+        let mut largest = 0;
+        for &i in idx {
+            let r = find(&mut parent, i as u32) as usize;
+            size[r] += 1;
+            largest = largest.max(size[r] as usize);
+        }
+        largest
+    }
+
+    /// Islands: connected groups of `idx` under the `candidates` pairs (union-find),
+    /// ordered by their smallest shot id, with their pairs sorted.
+    fn form_islands(
         &self,
         idx: &[usize],
         candidates: &HashSet<(u32, u32)>,
-        t0: f64,
-        t1: f64,
-    ) -> (Vec<Vec<usize>>, Vec<IslandResult>) {
+    ) -> (Vec<Vec<usize>>, Vec<Vec<(u32, u32)>>) {
         // Union-find over global indices (shot id == index).
         let n = self.shots.len();
         let mut parent: Vec<usize> = (0..n).collect();
@@ -535,7 +618,7 @@ impl Simulation {
                 parent[ra.max(rb)] = ra.min(rb);
             }
         }
-        let mut by_root: HashMap<usize, usize> = HashMap::new();
+        let mut by_root: HashMap<usize, usize> = HashMap::default();
         let mut islands: Vec<Vec<usize>> = Vec::new();
         for &i in idx {
             let r = find(&mut parent, i);
@@ -552,6 +635,18 @@ impl Simulation {
                 island_pairs[k].push((a, b));
             }
         }
+        (islands, island_pairs)
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn integrate_islands(
+        &self,
+        idx: &[usize],
+        candidates: &HashSet<(u32, u32)>,
+        t0: f64,
+        t1: f64,
+    ) -> (Vec<Vec<usize>>, Vec<IslandResult>) {
+        let (islands, island_pairs) = self.form_islands(idx, candidates);
         let phys = &self.physics;
         let snap = self.snapshot_interval;
         let results = islands

@@ -149,10 +149,12 @@ fn shot_on_shot(
     (tr, members, p0, e0)
 }
 
+/// Onset: where the gap crosses zero, linearly interpolated between the two samples
+/// around it (steps there are a fiftieth of the contact time).
 fn onset_from_trace(tr: &Trace) -> f64 {
     let k = tr.gap.iter().position(|&g| g < 0.0).unwrap();
-    // The onset is located by the integrator: the step ending there has gap ~ -0.
-    tr.t[k]
+    let f = tr.gap[k - 1] / (tr.gap[k - 1] - tr.gap[k]);
+    tr.t[k - 1] + f * (tr.t[k] - tr.t[k - 1])
 }
 
 #[test]

@@ -102,6 +102,24 @@ fn vel(y: &[f64], i: usize) -> Vec3 {
     Vec3::new(y[6 * i + 3], y[6 * i + 4], y[6 * i + 5])
 }
 
+/// Cubic Hermite interpolation of member `i` between `y0` and `y1` (a step of `h`) at
+/// the fraction `s` of the step: (position, velocity).
+#[inline]
+fn hermite(y0: &[f64], y1: &[f64], h: f64, i: usize, s: f64) -> (Vec3, Vec3) {
+    let (p0, v0, p1, v1) = (pos(y0, i), vel(y0, i), pos(y1, i), vel(y1, i));
+    let (s2, s3) = (s * s, s * s * s);
+    let p = p0 * (2.0 * s3 - 3.0 * s2 + 1.0)
+        + v0 * (h * (s3 - 2.0 * s2 + s))
+        + p1 * (3.0 * s2 - 2.0 * s3)
+        + v1 * (h * (s3 - s2));
+    let v = (p0 * (6.0 * s2 - 6.0 * s)
+        + v0 * (h * (3.0 * s2 - 4.0 * s + 1.0))
+        + p1 * (6.0 * s - 6.0 * s2)
+        + v1 * (h * (3.0 * s2 - 2.0 * s)))
+        / h;
+    (p, v)
+}
+
 #[inline]
 fn add_acc(dy: &mut [f64], i: usize, a: &Vec3) {
     dy[6 * i + 3] += a.x;
@@ -199,48 +217,214 @@ impl Ctx<'_> {
         }
     }
 
-    /// Smallest margin (m) over the events that can still happen: leaving the frozen jet
-    /// region, and the onset of every contact not yet touching. Positive: none happened.
-    fn event_margin(&self, members: &[ShotState], pairs: &[IslandPair], t: f64, y: &[f64]) -> f64 {
-        let c = &self.phys.contacts;
+    /// Smallest margin (m) over the events that cut a step: a moving member leaving its
+    /// frozen jet region (the field jumps at region borders), and a shot touching the
+    /// specimen (located exactly: the impact record is the product). Positive: none.
+    /// Shot-shot and wall onsets do not cut steps (see [`Ctx::record_onsets`]).
+    fn event_margin(&self, members: &[ShotState], t: f64, y: &[f64]) -> f64 {
+        let field = self.phys.forces.field.as_ref();
+        let specimen = self.phys.contacts.specimen.as_ref();
         let mut g = f64::INFINITY;
         for (i, m) in members.iter().enumerate() {
             if !moving(m, t) {
                 continue;
             }
             let p = pos(y, i);
-            if let Some(field) = &self.phys.forces.field {
+            if let Some(field) = field {
                 g = g.min(field.margin(&field.coords(&p), m.region));
             }
-            if let Some(sp) = &c.specimen
+            if let Some(sp) = specimen
                 && !m.on_specimen
             {
                 g = g.min(sp.gap(&p, m.body.radius));
-            }
-            if let Some(w) = &c.wall
-                && !m.on_wall
-                && let Some(geo) = w.geometry(&p, m.body.radius)
-            {
-                g = g.min(geo.gap);
-            }
-        }
-        if c.pair.is_some() {
-            for pr in pairs {
-                let (i, j) = (pr.a as usize, pr.b as usize);
-                if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
-                    continue;
-                }
-                let gap = (pos(y, j) - pos(y, i)).norm()
-                    - members[i].body.radius
-                    - members[j].body.radius;
-                g = g.min(gap);
             }
         }
         g
     }
 
-    /// Applies every event whose margin is negative at `(t, y)`: region switches and
-    /// contact onsets (recording impacts). Returns whether anything changed.
+    /// Shot-shot and wall contact onsets inside the accepted step `[t0, t0 + h]` (start
+    /// `y0`, end `y1`): contacts open at the start that overlap at the end. Contact forces
+    /// are continuous at the onset, so the step stands (re-stepping a large island for
+    /// every collision would cost far more); the onset time, position and velocity come
+    /// from the cubic Hermite interpolant of the step, whose gap root is found by
+    /// bisection. Specimen onsets were located exactly before (they end the step), and
+    /// are only caught here if a shot entered the run overlapping the specimen.
+    #[allow(clippy::too_many_arguments)]
+    fn record_onsets(
+        &self,
+        members: &mut [ShotState],
+        pairs: &mut [IslandPair],
+        t0: f64,
+        h: f64,
+        y0: &[f64],
+        y1: &[f64],
+        out: &mut IslandOutput,
+    ) {
+        let c = &self.phys.contacts;
+        // Bisection for the first s in (0, 1] where gap(s) < 0, given gap(0) >= 0 > gap(1).
+        let root = |gap: &dyn Fn(f64) -> f64| -> f64 {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if gap(mid) < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            hi
+        };
+        for i in 0..members.len() {
+            if !moving(&members[i], t0) {
+                continue;
+            }
+            let r = members[i].body.radius;
+            if let Some(sp) = &c.specimen
+                && !members[i].on_specimen
+                && sp.gap(&pos(y1, i), r) < 0.0
+            {
+                let g = |s: f64| sp.gap(&hermite(y0, y1, h, i, s).0, r);
+                let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
+                let (p, v) = hermite(y0, y1, h, i, s);
+                self.specimen_onset(&mut members[i], t0 + s * h, &p, &v, out);
+            }
+            if let Some(w) = &c.wall
+                && !members[i].on_wall
+                && w.geometry(&pos(y1, i), r).is_some_and(|g| g.gap < 0.0)
+            {
+                let g = |s: f64| {
+                    w.geometry(&hermite(y0, y1, h, i, s).0, r)
+                        .map_or(1.0, |g| g.gap)
+                };
+                let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
+                let (p, v) = hermite(y0, y1, h, i, s);
+                self.wall_onset(&mut members[i], t0 + s * h, &p, &v, out);
+            }
+        }
+        if c.pair.is_some() {
+            for k in 0..pairs.len() {
+                let (i, j) = (pairs[k].a as usize, pairs[k].b as usize);
+                if pairs[k].touching || !moving(&members[i], t0) || !moving(&members[j], t0) {
+                    continue;
+                }
+                let rr = members[i].body.radius + members[j].body.radius;
+                if (pos(y1, j) - pos(y1, i)).norm() >= rr {
+                    continue;
+                }
+                let g =
+                    |s: f64| (hermite(y0, y1, h, j, s).0 - hermite(y0, y1, h, i, s).0).norm() - rr;
+                let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
+                let (pi, vi) = hermite(y0, y1, h, i, s);
+                let (pj, vj) = hermite(y0, y1, h, j, s);
+                self.pair_onset(
+                    &mut pairs[k],
+                    members,
+                    t0 + s * h,
+                    (&pi, &vi),
+                    (&pj, &vj),
+                    out,
+                );
+            }
+        }
+    }
+
+    fn specimen_onset(
+        &self,
+        m: &mut ShotState,
+        t: f64,
+        p: &Vec3,
+        v: &Vec3,
+        out: &mut IslandOutput,
+    ) {
+        let sp = self
+            .phys
+            .contacts
+            .specimen
+            .as_ref()
+            .expect("BUG: specimen onset without specimen");
+        m.on_specimen = true;
+        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+        m.specimen_contact_time =
+            hertz::contact_time(m.body.mass, k, (-v.z).max(MIN_CONTACT_SPEED));
+        m.specimen_onset = t;
+        m.hits += 1;
+        if m.hits == 1 {
+            m.steps_to_first_contact = Some(m.steps);
+        }
+        out.impacts.push(Impact::new(
+            m.id.0,
+            t,
+            p,
+            v,
+            m.body.radius,
+            m.body.mass,
+            m.collisions,
+            m.hits == 1,
+        ));
+        out.work.contact_onsets += 1;
+    }
+
+    fn wall_onset(&self, m: &mut ShotState, t: f64, p: &Vec3, v: &Vec3, out: &mut IslandOutput) {
+        let w = self
+            .phys
+            .contacts
+            .wall
+            .as_ref()
+            .expect("BUG: wall onset without wall");
+        let outward = w
+            .geometry(p, m.body.radius)
+            .map_or(Vec3::zeros(), |g| g.outward);
+        m.on_wall = true;
+        let k = w.law.stiffness(w.effective_radius(m.body.radius));
+        m.wall_contact_time =
+            hertz::contact_time(m.body.mass, k, v.dot(&outward).max(MIN_CONTACT_SPEED));
+        m.wall_onset = t;
+        m.wall_contacts += 1;
+        out.work.contact_onsets += 1;
+    }
+
+    fn pair_onset(
+        &self,
+        pr: &mut IslandPair,
+        members: &mut [ShotState],
+        t: f64,
+        (pi, vi): (&Vec3, &Vec3),
+        (pj, vj): (&Vec3, &Vec3),
+        out: &mut IslandOutput,
+    ) {
+        let pc = self
+            .phys
+            .contacts
+            .pair
+            .as_ref()
+            .expect("BUG: pair onset without pair contact");
+        let (i, j) = (pr.a as usize, pr.b as usize);
+        let (bi, bj) = (members[i].body, members[j].body);
+        let d = pj - pi;
+        let n = if d.norm() > 0.0 {
+            d / d.norm()
+        } else {
+            Vec3::z()
+        };
+        let closing = -(vj - vi).dot(&n);
+        let k = pc
+            .law
+            .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
+        pr.touching = true;
+        pr.onset = t;
+        pr.contact_time = hertz::contact_time(
+            effective_mass(bi.mass, bj.mass),
+            k,
+            closing.max(MIN_CONTACT_SPEED),
+        );
+        members[i].collisions += 1;
+        members[j].collisions += 1;
+        out.work.contact_onsets += 1;
+    }
+
+    /// Applies what holds at `(t, y)` at the start of a step: region switches (after a
+    /// located crossing, or a shot placed on a border) and contacts that already overlap
+    /// (a shot entering the run in contact). Returns whether anything changed.
     fn apply_events(
         &self,
         members: &mut [ShotState],
@@ -251,89 +435,48 @@ impl Ctx<'_> {
     ) -> bool {
         let c = &self.phys.contacts;
         let mut changed = false;
-        for (i, m) in members.iter_mut().enumerate() {
-            if !moving(m, t) {
+        for i in 0..members.len() {
+            if !moving(&members[i], t) {
                 continue;
             }
-            let p = pos(y, i);
-            let v = vel(y, i);
+            let (p, v) = (pos(y, i), vel(y, i));
+            let r = members[i].body.radius;
             if let Some(field) = &self.phys.forces.field {
                 let co = field.coords(&p);
-                if field.margin(&co, m.region) < 0.0 {
+                if field.margin(&co, members[i].region) < 0.0 {
                     let next = field.region_of(&co);
-                    if next != m.region {
-                        m.region = next;
+                    if next != members[i].region {
+                        members[i].region = next;
                         out.work.region_crossings += 1;
                         changed = true;
                     }
                 }
             }
             if let Some(sp) = &c.specimen
-                && !m.on_specimen
-                && sp.gap(&p, m.body.radius) < 0.0
+                && !members[i].on_specimen
+                && sp.gap(&p, r) < 0.0
             {
-                m.on_specimen = true;
-                let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                m.specimen_contact_time =
-                    hertz::contact_time(m.body.mass, k, (-v.z).max(MIN_CONTACT_SPEED));
-                m.specimen_onset = t;
-                m.hits += 1;
-                if m.hits == 1 {
-                    m.steps_to_first_contact = Some(m.steps);
-                }
-                out.impacts.push(Impact::new(
-                    m.id.0,
-                    t,
-                    &p,
-                    &v,
-                    m.body.radius,
-                    m.body.mass,
-                    m.collisions,
-                    m.hits == 1,
-                ));
-                out.work.contact_onsets += 1;
+                self.specimen_onset(&mut members[i], t, &p, &v, out);
                 changed = true;
             }
             if let Some(w) = &c.wall
-                && !m.on_wall
-                && let Some(geo) = w.geometry(&p, m.body.radius)
-                && geo.gap < 0.0
+                && !members[i].on_wall
+                && w.geometry(&p, r).is_some_and(|g| g.gap < 0.0)
             {
-                m.on_wall = true;
-                let k = w.law.stiffness(w.effective_radius(m.body.radius));
-                let vn = v.dot(&geo.outward).max(MIN_CONTACT_SPEED);
-                m.wall_contact_time = hertz::contact_time(m.body.mass, k, vn);
-                m.wall_onset = t;
-                m.wall_contacts += 1;
-                out.work.contact_onsets += 1;
+                self.wall_onset(&mut members[i], t, &p, &v, out);
                 changed = true;
             }
         }
-        if let Some(pc) = &c.pair {
-            for pr in pairs.iter_mut() {
-                let (i, j) = (pr.a as usize, pr.b as usize);
-                if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
+        if c.pair.is_some() {
+            for k in 0..pairs.len() {
+                let (i, j) = (pairs[k].a as usize, pairs[k].b as usize);
+                if pairs[k].touching || !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
-                let (bi, bj) = (members[i].body, members[j].body);
-                let dpos = pos(y, j) - pos(y, i);
-                let dist = dpos.norm();
-                if dist - bi.radius - bj.radius < 0.0 {
-                    pr.touching = true;
-                    pr.onset = t;
-                    let n = if dist > 0.0 { dpos / dist } else { Vec3::z() };
-                    let closing = -(vel(y, j) - vel(y, i)).dot(&n);
-                    let k = pc
-                        .law
-                        .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
-                    pr.contact_time = hertz::contact_time(
-                        effective_mass(bi.mass, bj.mass),
-                        k,
-                        closing.max(MIN_CONTACT_SPEED),
-                    );
-                    members[i].collisions += 1;
-                    members[j].collisions += 1;
-                    out.work.contact_onsets += 1;
+                let (pi, pj) = (pos(y, i), pos(y, j));
+                if (pj - pi).norm() < members[i].body.radius + members[j].body.radius {
+                    let (vi, vj) = (vel(y, i), vel(y, j));
+                    self.pair_onset(&mut pairs[k], members, t, (&pi, &vi), (&pj, &vj), out);
                     changed = true;
                 }
             }
@@ -680,7 +823,7 @@ pub fn advance_observed(
             h = cap;
             lands_at = None;
         }
-        let g0 = ctx.event_margin(members, pairs, t, y);
+        let g0 = ctx.event_margin(members, t, y);
         // Trial steps until the error is acceptable.
         let mut rejected = false;
         let err_norm = loop {
@@ -718,7 +861,7 @@ pub fn advance_observed(
             break;
         }
         // Events inside the step: cut the step back to the first one.
-        let g1 = ctx.event_margin(members, pairs, t + h, y_new);
+        let g1 = ctx.event_margin(members, t + h, y_new);
         if g1 < 0.0 {
             lands_at = None;
             let (mut a, mut ga) = (0.0, g0.max(0.0));
@@ -735,7 +878,7 @@ pub fn advance_observed(
                 }
                 trial(&ctx, dopri, members, pairs, t, y, c, y_new, err, &mut work);
                 work.steps_rejected += 1;
-                let gc = ctx.event_margin(members, pairs, t + c, y_new);
+                let gc = ctx.event_margin(members, t + c, y_new);
                 if gc < 0.0 {
                     b = c;
                     gb = gc;
@@ -768,6 +911,7 @@ pub fn advance_observed(
             }
         }
         work.steps_accepted += 1;
+        ctx.record_onsets(members, pairs, t, h, y, y_new, out);
         std::mem::swap(y, y_new);
         let t_prev = t;
         t = lands_at.unwrap_or(t + h);

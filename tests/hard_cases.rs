@@ -1,0 +1,585 @@
+//! Hard cases: stiff, fast, crowded and degenerate scenes, each asserting invariants.
+//! Tolerances: peak overlap and contact time within 1 % of Hertz theory; undamped
+//! contacts keep energy within 0.1 %, damped ones lose it; restitution within 0.5 %;
+//! momentum to round-off; no shot tunnels (every overlap stays below 10 % of the radius);
+//! resting shots neither drift, sink nor gain energy; results converge as the tolerance
+//! tightens; mirror-symmetric inputs give mirror-symmetric outputs (to 1e-9).
+
+mod common;
+use common::*;
+use peenflow::Vec3;
+use peenflow::contact::{
+    ContactSet, HertzLaw, PairContact, SpecimenContact, effective_mass, hertz,
+};
+use peenflow::forces::{ForceSet, GravityModel, ShotBody};
+use peenflow::integrate::island::{IslandOutput, IslandPair, Physics, Scratch, advance_observed};
+use peenflow::scene::Scene;
+use peenflow::sim::Simulation;
+use peenflow::state::{Domain, ShotId, ShotState, ShotStatus};
+
+fn body(d: f64, rho: f64) -> ShotBody {
+    ShotBody {
+        radius: 0.5 * d,
+        mass: rho * std::f64::consts::PI / 6.0 * d * d * d,
+    }
+}
+
+fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> Physics {
+    Physics {
+        forces: ForceSet {
+            drag: None,
+            lateral: None,
+            gravity: (gravity > 0.0).then_some(GravityModel {
+                acceleration: Vec3::new(0.0, 0.0, -gravity),
+            }),
+            field: None,
+        },
+        contacts: ContactSet {
+            specimen: specimen.map(|law| SpecimenContact { law }),
+            wall: None,
+            pair: pair.map(|law| PairContact { law }),
+        },
+        tolerance: 1e-6,
+        contact_steps: 50.0,
+        domain: Domain {
+            radius: 10.0,
+            top: 10.0,
+        },
+        max_step: 1e-3,
+    }
+}
+
+fn kinetic(shots: &[ShotState]) -> f64 {
+    shots
+        .iter()
+        .map(|s| 0.5 * s.body.mass * s.vel.norm_squared())
+        .sum()
+}
+
+/// One shot onto the specimen; returns (final shot, peak overlap, contact duration).
+fn impact(b: ShotBody, law: HertzLaw, vel: Vec3) -> (ShotState, f64, f64) {
+    let phys = physics(Some(law), None, 0.0);
+    let gap0 = 0.1 * b.radius;
+    let mut m = vec![ShotState::new(
+        ShotId(0),
+        Vec3::new(0.0, 0.0, b.radius + gap0),
+        vel,
+        b,
+        0.0,
+    )];
+    let (mut peak, mut t_in, mut t_out, mut prev) = (0.0f64, None, None, (0.0, gap0));
+    let vn = -vel.z;
+    let k = law.stiffness(b.radius);
+    let t_end = gap0 / vn + 10.0 * hertz::contact_time(b.mass, k, vn);
+    let mut out = IslandOutput::default();
+    advance_observed(
+        &phys,
+        &mut m,
+        &mut [],
+        0.0,
+        t_end,
+        &mut Scratch::default(),
+        &mut out,
+        &mut |t, y| {
+            let gap = y[2] - b.radius;
+            peak = peak.max(-gap);
+            if gap < 0.0 && t_in.is_none() {
+                t_in = Some(t);
+            }
+            if gap > 0.0 && prev.1 <= 0.0 && t_in.is_some() && t_out.is_none() {
+                // linear interpolation of the separation
+                t_out = Some(prev.0 + (t - prev.0) * (-prev.1) / (gap - prev.1));
+            }
+            prev = (t, gap);
+        },
+    );
+    assert_eq!(out.impacts.len(), 1);
+    let t_on = out.impacts[0].time_s;
+    (m.remove(0), peak, t_out.expect("no separation") - t_on)
+}
+
+#[test]
+fn stiff_small_fast_tungsten_carbide_onto_hardened_steel() {
+    let b = body(0.1e-3, 15600.0);
+    for e in [1.0, 0.7] {
+        let law = HertzLaw::new(600e9, 0.22, 210e9, 0.3, e);
+        let (s, peak, tc) = impact(b, law, Vec3::new(0.0, 0.0, -150.0));
+        assert!(s.vel.iter().chain(s.pos.iter()).all(|v| v.is_finite()));
+        let k = law.stiffness(b.radius);
+        if e == 1.0 {
+            assert!(
+                rel(peak, hertz::peak_overlap(b.mass, k, 150.0)) < 0.01,
+                "{peak}"
+            );
+            assert!(
+                rel(tc, hertz::contact_time(b.mass, k, 150.0)) < 0.01,
+                "{tc}"
+            );
+            assert!(rel(s.vel.z, 150.0) < 1e-3);
+        } else {
+            assert!(rel(s.vel.z / 150.0, 0.7) < 0.005, "{}", s.vel.z);
+        }
+        println!(
+            "WC e {e}: peak overlap {peak:.4e} m ({:.1} % of R), contact {tc:.3e} s, rebound {:.3} m/s",
+            100.0 * peak / b.radius,
+            s.vel.z
+        );
+    }
+}
+
+/// Runs an island of shots with candidate pairs between all of them.
+fn island(
+    mut shots: Vec<ShotState>,
+    phys: &Physics,
+    t_end: f64,
+) -> (Vec<ShotState>, f64, IslandOutput) {
+    let n = shots.len() as u32;
+    let mut pairs: Vec<IslandPair> = (0..n)
+        .flat_map(|a| {
+            (a + 1..n).map(move |b| IslandPair {
+                a,
+                b,
+                touching: false,
+                contact_time: 0.0,
+                onset: 0.0,
+            })
+        })
+        .collect();
+    let mut out = IslandOutput::default();
+    let radii: Vec<f64> = shots.iter().map(|s| s.body.radius).collect();
+    let mut worst = 0.0f64; // largest overlap / radius seen
+    advance_observed(
+        phys,
+        &mut shots,
+        &mut pairs,
+        0.0,
+        t_end,
+        &mut Scratch::default(),
+        &mut out,
+        &mut |_, y| {
+            for i in 0..radii.len() {
+                worst = worst.max((radii[i] - y[6 * i + 2]) / radii[i]);
+                for j in i + 1..radii.len() {
+                    let d = ((y[6 * i] - y[6 * j]).powi(2)
+                        + (y[6 * i + 1] - y[6 * j + 1]).powi(2)
+                        + (y[6 * i + 2] - y[6 * j + 2]).powi(2))
+                    .sqrt();
+                    worst = worst.max((radii[i] + radii[j] - d) / radii[i].min(radii[j]));
+                }
+            }
+        },
+    );
+    (shots, worst, out)
+}
+
+#[test]
+fn head_on_shot_shot_collision_at_two_times_100_m_s() {
+    let b = body(0.8e-3, 7850.0);
+    for e in [1.0, 0.9] {
+        let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, e);
+        let phys = physics(None, Some(law), 0.0);
+        let shots = vec![
+            ShotState::new(
+                ShotId(0),
+                Vec3::new(-0.45e-3, 0.0, 0.01),
+                Vec3::new(100.0, 0.0, 0.0),
+                b,
+                0.0,
+            ),
+            ShotState::new(
+                ShotId(1),
+                Vec3::new(0.45e-3, 0.0, 0.01),
+                Vec3::new(-100.0, 0.0, 0.0),
+                b,
+                0.0,
+            ),
+        ];
+        let (ke0, p0): (f64, Vec3) = (
+            kinetic(&shots),
+            shots.iter().map(|s| s.vel * s.body.mass).sum(),
+        );
+        let (end, worst, _) = island(shots, &phys, 5e-6);
+        let p1: Vec3 = end.iter().map(|s| s.vel * s.body.mass).sum();
+        assert!((p1 - p0).norm() < 1e-12 * b.mass * 100.0);
+        let ke1 = kinetic(&end);
+        let k = law.stiffness(PairContact::effective_radius(b.radius, b.radius));
+        let dmax = hertz::peak_overlap(effective_mass(b.mass, b.mass), k, 200.0);
+        println!(
+            "head-on e {e}: KE {ke1:.6e} / {ke0:.6e}, peak overlap {:.4e} (theory {dmax:.4e})",
+            worst * b.radius
+        );
+        if e == 1.0 {
+            assert!(rel(ke1, ke0) < 1e-3);
+            assert!(rel(worst * b.radius, dmax) < 0.01);
+        } else {
+            assert!(ke1 < ke0 && rel(-end[0].vel.x / 100.0, 0.9) < 0.005);
+        }
+    }
+}
+
+#[test]
+fn shot_squeezed_between_specimen_and_incoming_shot() {
+    let b = body(0.8e-3, 7850.0);
+    let spec = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    let pair = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.9);
+    let phys = physics(Some(spec), Some(pair), 0.0);
+    let r = b.radius;
+    let shots = vec![
+        ShotState::new(ShotId(0), Vec3::new(0.0, 0.0, r), Vec3::zeros(), b, 0.0),
+        ShotState::new(
+            ShotId(1),
+            Vec3::new(0.0, 0.0, 3.0 * r + 0.05e-3),
+            Vec3::new(0.0, 0.0, -70.0),
+            b,
+            0.0,
+        ),
+    ];
+    let ke0 = kinetic(&shots);
+    let (end, worst, out) = island(shots, &phys, 2e-4);
+    assert!(
+        end.iter()
+            .all(|s| s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()))
+    );
+    assert!(
+        worst < 0.1,
+        "overlap reached {:.1} % of a radius",
+        100.0 * worst
+    );
+    assert!(kinetic(&end) < ke0);
+    assert!(end[1].vel.z > 0.0, "the incoming shot bounces back");
+    assert!(
+        end.iter().all(|s| s.pos.z >= r),
+        "no shot below the specimen at the end"
+    );
+    assert!(out.impacts.len() >= 1);
+    println!(
+        "squeeze: KE {:.4e} -> {:.4e}, worst overlap {:.2} % of R, {} impacts",
+        ke0,
+        kinetic(&end),
+        100.0 * worst,
+        out.impacts.len()
+    );
+}
+
+#[test]
+fn rebounding_shot_meets_a_dense_incoming_stream() {
+    let b = body(0.8e-3, 7850.0);
+    let spec = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    let pair = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.9);
+    let phys = physics(Some(spec), Some(pair), 0.0);
+    let mut shots = vec![ShotState::new(
+        ShotId(0),
+        Vec3::new(0.0, 0.0, 1e-3),
+        Vec3::new(0.0, 0.0, 30.0),
+        b,
+        0.0,
+    )];
+    for k in 1..=40u32 {
+        // A column of shots 1 mm apart (center to center), slightly staggered.
+        let x = 0.15e-3 * ((k % 5) as f64 - 2.0);
+        let y = 0.1e-3 * ((k % 3) as f64 - 1.0);
+        shots.push(ShotState::new(
+            ShotId(k),
+            Vec3::new(x, y, 1e-3 + 1.0e-3 * k as f64),
+            Vec3::new(0.0, 0.0, -70.0),
+            b,
+            0.0,
+        ));
+    }
+    let ke0 = kinetic(&shots);
+    let out = Simulation::from_parts(phys, shots, 1.5e-3).run(&|_| {});
+    assert!(out.events.is_empty(), "{:?}", out.events);
+    assert!(out.shots.iter().all(|s| s.status == ShotStatus::Active
+        && s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite())));
+    let ke1 = kinetic(&out.shots);
+    assert!(ke1 < ke0);
+    for s in &out.shots {
+        assert!(s.pos.z > 0.9 * b.radius, "shot {} at z {}", s.id.0, s.pos.z);
+    }
+    for (i, a) in out.shots.iter().enumerate() {
+        for c in &out.shots[i + 1..] {
+            assert!(
+                (a.pos - c.pos).norm() > 2.0 * b.radius * 0.9,
+                "shots {} and {} overlap at the end",
+                a.id.0,
+                c.id.0
+            );
+        }
+    }
+    let collisions: u32 = out.shots.iter().map(|s| s.collisions).sum::<u32>() / 2;
+    println!(
+        "stream: {collisions} shot-shot collisions, {} impacts, KE {ke0:.3e} -> {ke1:.3e}, window redos {}",
+        out.impacts.len(),
+        out.window_redos
+    );
+    assert!(collisions > 10);
+}
+
+#[test]
+fn grazing_impacts_keep_tangential_speed_and_restitute_the_normal_one() {
+    let b = body(0.8e-3, 7850.0);
+    let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    for deg in [85.0f64, 86.0, 87.0, 88.0, 89.0] {
+        let th = deg.to_radians();
+        let v = Vec3::new(70.0 * th.sin(), 0.0, -70.0 * th.cos());
+        let (s, _, _) = impact(b, law, v);
+        assert!(
+            rel(s.vel.x, v.x) < 1e-9,
+            "{deg}: tangential {} vs {}",
+            s.vel.x,
+            v.x
+        );
+        assert!(
+            rel(s.vel.z / -v.z, 0.7) < 0.005,
+            "{deg}: e = {}",
+            s.vel.z / -v.z
+        );
+    }
+}
+
+#[test]
+fn restitution_extremes() {
+    let b = body(0.8e-3, 7850.0);
+    for e in [0.05, 1.0] {
+        let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, e);
+        let (s, _, _) = impact(b, law, Vec3::new(0.0, 0.0, -70.0));
+        println!("e {e}: returned {:.6}", s.vel.z / 70.0);
+        if e == 1.0 {
+            assert!(
+                rel(s.vel.norm_squared(), 4900.0) < 1e-3,
+                "energy kept within 0.1 %"
+            );
+        } else {
+            assert!(rel(s.vel.z / 70.0, e) < 0.005, "{}", s.vel.z / 70.0);
+        }
+    }
+}
+
+fn lone_shot_scene(extra: &str, position_mm: [f64; 3], tolerance: f64) -> Scene {
+    let text = format!(
+        r#"
+duration_ms = 25.0
+gravity_m_s2 = 0.0
+{extra}
+[integrator]
+tolerance = {tolerance:e}
+[effects]
+drag = true
+lateral_force = true
+specimen_contact = true
+shot_shot_contact = false
+nozzle_wall_contact = true
+[shots.feed]
+type = "list"
+[[shots.feed.shots]]
+position_mm = [{}, {}, {}]
+"#,
+        position_mm[0], position_mm[1], position_mm[2]
+    );
+    Scene::from_toml(&text, "hard case").unwrap()
+}
+
+fn first_impact(scene: &Scene) -> peenflow::record::Impact {
+    let out = Simulation::new(scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {});
+    assert!(out.events.is_empty(), "{:?}", out.events);
+    out.impacts.first().cloned().expect("no impact")
+}
+
+/// Impact speed and time at a ladder of tolerances against a 1e-10 reference: the error
+/// stays below 100 x the tolerance at every rung (the global error of an error-controlled
+/// run is bounded by a multiple of the tolerance; it need not fall monotonically for one
+/// observable), so it vanishes as the tolerance tightens.
+fn converges(extra: &str, position_mm: [f64; 3]) -> f64 {
+    let reference = first_impact(&lone_shot_scene(extra, position_mm, 1e-10));
+    for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
+        let got = first_impact(&lone_shot_scene(extra, position_mm, tol));
+        let err = rel(got.speed_m_s, reference.speed_m_s) + rel(got.time_s, reference.time_s);
+        println!(
+            "  {extra:?} at {position_mm:?}: tol {tol:e}: speed {:.9}, error {err:.2e}",
+            got.speed_m_s
+        );
+        assert!(err < 100.0 * tol, "tol {tol:e}: error {err:.2e}");
+    }
+    reference.speed_m_s
+}
+
+#[test]
+fn shots_launched_on_jet_region_borders_and_at_the_lip() {
+    // Exit at z = 100 mm; core/developed border on the axis at s = 5d = 30 mm (z = 70 mm);
+    // core/mixing border at s = 10 mm: r = (5d - s)/10 = 2 mm; the lip: s = 0, r = d/2.
+    for p in [
+        [0.0, 0.0, 70.0],
+        [2.0, 0.0, 90.0],
+        [3.0, 0.0, 100.0],
+        [0.0, 0.0, 140.0],
+    ] {
+        let v = converges("", p);
+        assert!(v > 20.0 && v < 120.0, "{v}");
+    }
+}
+
+#[test]
+fn extreme_supplies_converge() {
+    // 1.0 MPa with 0.05 mm shots (fast, light: relaxation in microseconds), and 0.05 MPa
+    // (unchoked nozzle, Eq 8 with ambient exit pressure).
+    let fast = converges(
+        "[air]\ngauge_pressure_mpa = 1.0\n[shots]\ndiameter_mm = 0.05\n",
+        [0.0, 0.0, 140.0],
+    );
+    let slow = converges("[air]\ngauge_pressure_mpa = 0.05\n", [0.0, 0.0, 140.0]);
+    let scene = lone_shot_scene(
+        "[air]\ngauge_pressure_mpa = 0.05\n",
+        [0.0, 0.0, 140.0],
+        1e-6,
+    );
+    assert!(!scene.air.is_choked);
+    println!("1.0 MPa, 0.05 mm: {fast:.2} m/s; 0.05 MPa, 0.8 mm: {slow:.2} m/s");
+    assert!(fast > 150.0 && fast < 1.2 * 313.3);
+    assert!(slow > 5.0 && slow < 60.0);
+}
+
+#[test]
+fn clump_of_1000_shots_jamming_in_the_bore() {
+    // 1000 shots fill the bore (31 % by volume) with random velocities of up to 5 m/s, so
+    // they jostle against each other and the wall while the air accelerates them.
+    use rand::{Rng, SeedableRng};
+    let text = r#"
+duration_ms = 1.5
+[shots.feed]
+type = "batch"
+count = 1000
+radial_offset_mm = [0.0, 2.6]
+axial_spread_mm = 40.0
+"#;
+    let scene = Scene::from_toml(text, "clump").unwrap();
+    let effects = scene.effects();
+    assert!(effects.nozzle_wall_contact && effects.shot_shot_contact);
+    let mut shots = peenflow::feed::initial_shots(&scene).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    for s in &mut shots {
+        s.vel = Vec3::new(
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-5.0..5.0),
+        );
+    }
+    let out = Simulation::from_parts(
+        peenflow::sim::build_physics(&scene, &effects),
+        shots,
+        scene.duration,
+    )
+    .run(&|_| {});
+    assert!(
+        out.events.is_empty(),
+        "{:?}",
+        &out.events[..out.events.len().min(3)]
+    );
+    let (bore_r, exit, inlet) = (3e-3, scene.exit_height(), scene.inlet_height());
+    for s in &out.shots {
+        assert!(s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()));
+        let rho = (s.pos.x * s.pos.x + s.pos.y * s.pos.y).sqrt();
+        if s.pos.z > exit && s.pos.z < inlet {
+            assert!(
+                rho < bore_r - 0.9 * s.body.radius,
+                "shot {} through the wall: rho {rho}",
+                s.id.0
+            );
+        }
+    }
+    let wall: u32 = out.shots.iter().map(|s| s.wall_contacts).sum();
+    let pairs: u32 = out.shots.iter().map(|s| s.collisions).sum::<u32>() / 2;
+    println!(
+        "clump: {pairs} shot-shot and {wall} wall contacts, {} windows ({} redone)",
+        out.windows, out.window_redos
+    );
+    assert!(pairs > 1000 && wall > 100);
+}
+
+#[test]
+fn shots_resting_on_the_specimen_for_one_second() {
+    let b = body(0.8e-3, 7850.0);
+    let g = 9.80665;
+    let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    let phys = physics(Some(law), None, g);
+    let shots: Vec<ShotState> = (0..3)
+        .map(|k| {
+            ShotState::new(
+                ShotId(k),
+                Vec3::new(2e-3 * k as f64, 1e-3, b.radius),
+                Vec3::zeros(),
+                b,
+                0.0,
+            )
+        })
+        .collect();
+    let energy = |s: &ShotState| {
+        let overlap = (b.radius - s.pos.z).max(0.0);
+        let k = law.stiffness(b.radius);
+        0.5 * b.mass * s.vel.norm_squared() + b.mass * g * s.pos.z + 0.4 * k * overlap.powf(2.5)
+    };
+    let e0: f64 = shots.iter().map(energy).sum();
+    let start = shots.clone();
+    let out = Simulation::from_parts(phys, shots, 1.0).run(&|_| {});
+    let k = law.stiffness(b.radius);
+    let static_overlap = (b.mass * g / k).powf(2.0 / 3.0);
+    for (s, s0) in out.shots.iter().zip(&start) {
+        assert_eq!(s.status, ShotStatus::Active);
+        assert!(
+            (s.pos.x - s0.pos.x).abs() < 1e-12 && (s.pos.y - s0.pos.y).abs() < 1e-12,
+            "drift"
+        );
+        let overlap = b.radius - s.pos.z;
+        assert!(
+            overlap > 0.0 && overlap < 1.5 * static_overlap,
+            "overlap {overlap} vs static {static_overlap}"
+        );
+        assert!(s.vel.norm() < 1e-4, "still moving {}", s.vel.norm());
+        println!(
+            "resting shot {}: overlap {overlap:.3e} m (static {static_overlap:.3e}), {} steps",
+            s.id.0, s.steps
+        );
+    }
+    let e1: f64 = out.shots.iter().map(energy).sum();
+    assert!(e1 <= e0, "energy gained: {e1} > {e0}");
+}
+
+#[test]
+fn mirror_symmetric_inputs_give_mirror_symmetric_outputs() {
+    let text = r#"
+duration_ms = 6.0
+[shots.feed]
+type = "list"
+[[shots.feed.shots]]
+position_mm = [-1.6, 0.3, 139.0]
+velocity_m_s = [2.0, 0.0, -1.0]
+[[shots.feed.shots]]
+position_mm = [1.6, 0.3, 139.0]
+velocity_m_s = [-2.0, 0.0, -1.0]
+"#;
+    let scene = Scene::from_toml(text, "mirror").unwrap();
+    let out = Simulation::new(&scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {});
+    let (a, b) = (&out.shots[0], &out.shots[1]);
+    assert!(
+        a.collisions > 0,
+        "the two shots should meet on the mirror plane"
+    );
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
+    assert!(
+        close(a.pos.x, -b.pos.x) && close(a.pos.y, b.pos.y) && close(a.pos.z, b.pos.z),
+        "{:?} {:?}",
+        a.pos,
+        b.pos
+    );
+    assert!(close(a.vel.x, -b.vel.x) && close(a.vel.z, b.vel.z));
+    let (ia, ib): (Vec<_>, Vec<_>) = out.impacts.iter().partition(|i| i.shot == 0);
+    assert_eq!(ia.len(), ib.len());
+    for (p, q) in ia.iter().zip(&ib) {
+        assert!(
+            close(p.x_m, -q.x_m) && close(p.time_s, q.time_s) && close(p.speed_m_s, q.speed_m_s)
+        );
+    }
+}
