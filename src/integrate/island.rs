@@ -274,22 +274,22 @@ impl Ctx<'_> {
             }
             hi
         };
-        for i in 0..members.len() {
-            if !moving(&members[i], t0) {
+        for (i, m) in members.iter_mut().enumerate() {
+            if !moving(m, t0) {
                 continue;
             }
-            let r = members[i].body.radius;
+            let r = m.body.radius;
             if let Some(sp) = &c.specimen
-                && !members[i].on_specimen
+                && !m.on_specimen
                 && sp.gap(&pos(y1, i), r) < 0.0
             {
                 let g = |s: f64| sp.gap(&hermite(y0, y1, h, i, s).0, r);
                 let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
                 let (p, v) = hermite(y0, y1, h, i, s);
-                self.specimen_onset(&mut members[i], t0 + s * h, &p, &v, out);
+                self.specimen_onset(m, t0 + s * h, &p, &v, out);
             }
             if let Some(w) = &c.wall
-                && !members[i].on_wall
+                && !m.on_wall
                 && w.geometry(&pos(y1, i), r).is_some_and(|g| g.gap < 0.0)
             {
                 let g = |s: f64| {
@@ -298,13 +298,13 @@ impl Ctx<'_> {
                 };
                 let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
                 let (p, v) = hermite(y0, y1, h, i, s);
-                self.wall_onset(&mut members[i], t0 + s * h, &p, &v, out);
+                self.wall_onset(m, t0 + s * h, &p, &v, out);
             }
         }
         if c.pair.is_some() {
-            for k in 0..pairs.len() {
-                let (i, j) = (pairs[k].a as usize, pairs[k].b as usize);
-                if pairs[k].touching || !moving(&members[i], t0) || !moving(&members[j], t0) {
+            for pr in pairs.iter_mut() {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if pr.touching || !moving(&members[i], t0) || !moving(&members[j], t0) {
                     continue;
                 }
                 let rr = members[i].body.radius + members[j].body.radius;
@@ -316,14 +316,7 @@ impl Ctx<'_> {
                 let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
                 let (pi, vi) = hermite(y0, y1, h, i, s);
                 let (pj, vj) = hermite(y0, y1, h, j, s);
-                self.pair_onset(
-                    &mut pairs[k],
-                    members,
-                    t0 + s * h,
-                    (&pi, &vi),
-                    (&pj, &vj),
-                    out,
-                );
+                self.pair_onset(pr, members, t0 + s * h, (&pi, &vi), (&pj, &vj), out);
             }
         }
     }
@@ -435,48 +428,48 @@ impl Ctx<'_> {
     ) -> bool {
         let c = &self.phys.contacts;
         let mut changed = false;
-        for i in 0..members.len() {
-            if !moving(&members[i], t) {
+        for (i, m) in members.iter_mut().enumerate() {
+            if !moving(m, t) {
                 continue;
             }
             let (p, v) = (pos(y, i), vel(y, i));
-            let r = members[i].body.radius;
+            let r = m.body.radius;
             if let Some(field) = &self.phys.forces.field {
                 let co = field.coords(&p);
-                if field.margin(&co, members[i].region) < 0.0 {
+                if field.margin(&co, m.region) < 0.0 {
                     let next = field.region_of(&co);
-                    if next != members[i].region {
-                        members[i].region = next;
+                    if next != m.region {
+                        m.region = next;
                         out.work.region_crossings += 1;
                         changed = true;
                     }
                 }
             }
             if let Some(sp) = &c.specimen
-                && !members[i].on_specimen
+                && !m.on_specimen
                 && sp.gap(&p, r) < 0.0
             {
-                self.specimen_onset(&mut members[i], t, &p, &v, out);
+                self.specimen_onset(m, t, &p, &v, out);
                 changed = true;
             }
             if let Some(w) = &c.wall
-                && !members[i].on_wall
+                && !m.on_wall
                 && w.geometry(&p, r).is_some_and(|g| g.gap < 0.0)
             {
-                self.wall_onset(&mut members[i], t, &p, &v, out);
+                self.wall_onset(m, t, &p, &v, out);
                 changed = true;
             }
         }
         if c.pair.is_some() {
-            for k in 0..pairs.len() {
-                let (i, j) = (pairs[k].a as usize, pairs[k].b as usize);
-                if pairs[k].touching || !moving(&members[i], t) || !moving(&members[j], t) {
+            for pr in pairs.iter_mut() {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
                 let (pi, pj) = (pos(y, i), pos(y, j));
                 if (pj - pi).norm() < members[i].body.radius + members[j].body.radius {
                     let (vi, vj) = (vel(y, i), vel(y, j));
-                    self.pair_onset(&mut pairs[k], members, t, (&pi, &vi), (&pj, &vj), out);
+                    self.pair_onset(pr, members, t, (&pi, &vi), (&pj, &vj), out);
                     changed = true;
                 }
             }
