@@ -197,6 +197,9 @@ fn advance_island(
     }
 }
 
+/// The candidate pairs (global ids) of one island.
+type IslandPairs = Vec<(u32, u32)>;
+
 /// What one island returns from a window: its members, its pairs by global key, its
 /// output, its snapshot points.
 type IslandResult = (
@@ -599,7 +602,7 @@ impl Simulation {
         &self,
         idx: &[usize],
         candidates: &HashSet<(u32, u32)>,
-    ) -> (Vec<Vec<usize>>, Vec<Vec<(u32, u32)>>) {
+    ) -> (Vec<Vec<usize>>, Vec<IslandPairs>) {
         // Union-find over global indices (shot id == index).
         let n = self.shots.len();
         let mut parent: Vec<usize> = (0..n).collect();

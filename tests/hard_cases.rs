@@ -251,7 +251,7 @@ fn shot_squeezed_between_specimen_and_incoming_shot() {
         end.iter().all(|s| s.pos.z >= r),
         "no shot below the specimen at the end"
     );
-    assert!(out.impacts.len() >= 1);
+    assert!(!out.impacts.is_empty());
     println!(
         "squeeze: KE {:.4e} -> {:.4e}, worst overlap {:.2} % of R, {} impacts",
         ke0,

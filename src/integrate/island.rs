@@ -615,17 +615,16 @@ impl Ctx<'_> {
                     ));
                 }
             }
-            if let Some(w) = &c.wall {
-                if let Some(g) = w.geometry(&p, r) {
-                    if -g.gap > 0.5 * r {
-                        return Some(format!(
-                            "shot {} overlaps the nozzle wall by {:.4} mm, {:.0} % of its radius",
-                            m.id.0,
-                            -g.gap * 1e3,
-                            -100.0 * g.gap / r
-                        ));
-                    }
-                }
+            if let Some(w) = &c.wall
+                && let Some(g) = w.geometry(&p, r)
+                && -g.gap > 0.5 * r
+            {
+                return Some(format!(
+                    "shot {} overlaps the nozzle wall by {:.4} mm, {:.0} % of its radius",
+                    m.id.0,
+                    -g.gap * 1e3,
+                    -100.0 * g.gap / r
+                ));
             }
         }
         if c.pair.is_some() {
