@@ -141,3 +141,34 @@ fn init_writes_the_default_scene_which_loads() {
     let o = peenflow(&["init", "my.toml"], tmp.path());
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn errors_doc_quotes_every_expected_message() {
+    let doc = fs::read_to_string(root().join("docs/errors.md")).unwrap();
+    for entry in fs::read_dir(root().join("tests/scenes/bad")).unwrap() {
+        let text = fs::read_to_string(entry.unwrap().path()).unwrap();
+        for line in text.lines().filter_map(|l| l.strip_prefix("#^")) {
+            assert!(
+                doc.contains(line.trim()),
+                "docs/errors.md does not quote: {}",
+                line.trim()
+            );
+        }
+    }
+}
+
+#[test]
+fn unwritable_output_is_refused_before_running() {
+    let tmp = tempfile::tempdir().unwrap();
+    fs::write(tmp.path().join("out.txt"), "x").unwrap();
+    let o = peenflow(&["run", "--out", "out.txt"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("out.txt: exists and is not a directory"));
+    let o = peenflow(&["run", "--out", "out.txt/sub"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("out.txt/sub: cannot write:") && stderr.trim().lines().count() == 1,
+        "{stderr}"
+    );
+}

@@ -51,7 +51,7 @@ impl Checker<'_> {
             path: self.path.to_string(),
             key: key.to_string(),
             value: format!("{v}"),
-            allowed: format!("{lb}{l}, {h}{hb}{unit}"),
+            allowed: format!("{lb}{}, {}{hb}{unit}", bound(l), bound(h)),
         })
     }
 
@@ -85,6 +85,16 @@ impl Checker<'_> {
                 names.join(", ")
             ),
         ))
+    }
+}
+
+/// A range bound for messages: plain for ordinary magnitudes, with an exponent for tiny
+/// or huge ones (`1e-12`, not `0.000000000001`).
+fn bound(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e9) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 

@@ -1,0 +1,161 @@
+//! Property tests (proptest) over random two- and three-shot encounters and random scenes
+//! inside the documented ranges, checking the hard-case invariants: every state finite, no
+//! run-time failure, momentum conserved to round-off without walls, energy never gained
+//! (kept within 0.1 % when undamped), no overlap left at the end, impact speeds below the
+//! fastest air in the jet. Case counts: PROPTEST_CASES (default 48 here).
+
+mod common;
+use common::*;
+use peenflow::Vec3;
+use peenflow::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact};
+use peenflow::forces::{ForceSet, ShotBody};
+use peenflow::integrate::Physics;
+use peenflow::scene::Scene;
+use peenflow::sim::Simulation;
+use peenflow::state::{Domain, ShotId, ShotState};
+use proptest::prelude::*;
+
+fn cases() -> u32 {
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(48)
+}
+
+#[derive(Debug, Clone)]
+struct Encounter {
+    shots: Vec<(f64, [f64; 3], [f64; 3])>,
+    e_pair: f64,
+    e_wall: f64,
+    with_specimen: bool,
+}
+
+fn encounter() -> impl Strategy<Value = Encounter> {
+    (
+        prop::collection::vec(
+            (
+                0.1e-3..1.5e-3f64,
+                prop::array::uniform3(-1.5e-3..1.5e-3f64),
+                prop::array::uniform3(-150.0..150.0f64),
+            ),
+            2..=3,
+        ),
+        prop_oneof![Just(1.0), 0.05..1.0f64],
+        0.05..=1.0f64,
+        any::<bool>(),
+    )
+        .prop_map(|(shots, e_pair, e_wall, with_specimen)| Encounter {
+            shots,
+            e_pair,
+            e_wall,
+            with_specimen,
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn random_encounters_keep_the_invariants(enc in encounter()) {
+        // Place the shots 5 mm above the specimen, skip initial overlaps.
+        let shots: Vec<ShotState> = enc.shots.iter().enumerate().map(|(k, (d, p, v))| {
+            let body = ShotBody { radius: 0.5 * d, mass: RHO_SHOT * std::f64::consts::PI / 6.0 * d * d * d };
+            ShotState::new(ShotId(k as u32), Vec3::new(p[0], p[1], 5e-3 + p[2]), Vec3::new(v[0], v[1], v[2]), body, 0.0)
+        }).collect();
+        for (i, a) in shots.iter().enumerate() {
+            for b in &shots[..i] {
+                prop_assume!((a.pos - b.pos).norm() > a.body.radius + b.body.radius);
+            }
+        }
+        let law = |e| HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, e);
+        let phys = Physics {
+            forces: ForceSet { drag: None, lateral: None, gravity: None, field: None },
+            contacts: ContactSet {
+                specimen: enc.with_specimen.then(|| SpecimenContact { law: law(enc.e_wall) }),
+                wall: None,
+                pair: Some(PairContact { law: law(enc.e_pair) }),
+            },
+            tolerance: 1e-6,
+            contact_steps: 50.0,
+            domain: Domain { radius: 100.0, top: 100.0 },
+            max_step: 1e-3,
+        };
+        let ke = |s: &[ShotState]| s.iter().map(|s| 0.5 * s.body.mass * s.vel.norm_squared()).sum::<f64>();
+        let p = |s: &[ShotState]| s.iter().map(|s| s.vel * s.body.mass).sum::<Vec3>();
+        let (ke0, p0) = (ke(&shots), p(&shots));
+        let scale: f64 = shots.iter().map(|s| s.body.mass * s.vel.norm()).sum::<f64>().max(1e-12);
+        let out = Simulation::from_parts(phys, shots, 2e-4).run(&|_| {});
+        prop_assert!(out.events.is_empty(), "{:?}", out.events);
+        for s in &out.shots {
+            prop_assert!(s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()));
+            if enc.with_specimen {
+                prop_assert!(s.pos.z > 0.5 * s.body.radius, "shot {} below the specimen", s.id.0);
+            }
+        }
+        for (i, a) in out.shots.iter().enumerate() {
+            for b in &out.shots[..i] {
+                let overlap = a.body.radius + b.body.radius - (a.pos - b.pos).norm();
+                prop_assert!(overlap < 0.02 * a.body.radius.min(b.body.radius), "overlap {overlap} left at the end");
+            }
+        }
+        let ke1 = ke(&out.shots);
+        prop_assert!(ke1 <= ke0 * (1.0 + 1e-3), "energy gained: {ke1} > {ke0}");
+        if !enc.with_specimen {
+            prop_assert!((p(&out.shots) - p0).norm() <= 1e-12 * scale, "momentum drift");
+            if enc.e_pair == 1.0 {
+                prop_assert!((ke1 - ke0).abs() <= 1e-3 * ke0, "undamped energy {ke1} vs {ke0}");
+            }
+        }
+    }
+
+    #[test]
+    fn random_scenes_inside_the_documented_ranges_run_clean(
+        pressure in 0.05..1.0f64,
+        diameter in 0.1..1.5f64,
+        bore in 3.0..12.0f64,
+        length in 10.0..100.0f64,
+        standoff in 20.0..300.0f64,
+        consistent in any::<bool>(),
+        rho_0 in any::<bool>(),
+        count in 1u32..6,
+        seed in 0u64..1000,
+    ) {
+        prop_assume!(diameter < 0.6 * bore);
+        let text = format!(
+            r#"
+seed = {seed}
+duration_ms = 20.0
+[air]
+gauge_pressure_mpa = {pressure}
+[nozzle]
+bore_mm = {bore}
+length_mm = {length}
+standoff_mm = {standoff}
+[jet]
+model = "{}"
+core_density = "{}"
+[shots]
+diameter_mm = {diameter}
+[shots.feed]
+type = "batch"
+count = {count}
+radial_offset_mm = [0.0, {}]
+axial_spread_mm = {}
+"#,
+            if consistent { "consistent" } else { "paper" },
+            if rho_0 { "rho_0" } else { "rho_star" },
+            0.5 * bore - 0.5 * diameter,
+            length.min(20.0),
+        );
+        let scene = Scene::from_toml(&text, "random").unwrap();
+        let out = Simulation::new(&scene, &scene.effects()).unwrap().run(&|_| {});
+        prop_assert!(out.events.is_empty(), "{:?}", out.events);
+        let u_max = 1.2 * scene.air.exit_velocity;
+        for s in &out.shots {
+            prop_assert!(s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()));
+        }
+        for m in &out.impacts {
+            prop_assert!(m.speed_m_s.is_finite() && m.speed_m_s < u_max, "impact {} m/s, air at most {u_max}", m.speed_m_s);
+        }
+    }
+}
