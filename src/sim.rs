@@ -513,8 +513,12 @@ impl Simulation {
                 .copied()
                 .filter(|&(a, b)| {
                     let (a, b) = (a as usize, b as usize);
-                    (self.shots[a].pos - self.shots[b].pos).norm() < reach[a] + reach[b]
-                        || self.pairs.contains_key(&(a as u32, b as u32))
+                    // Both must take part in this (possibly shortened) window: a shot of a
+                    // stream may enter only after it.
+                    self.shots[a].t_start < t1
+                        && self.shots[b].t_start < t1
+                        && ((self.shots[a].pos - self.shots[b].pos).norm() < reach[a] + reach[b]
+                            || self.pairs.contains_key(&(a as u32, b as u32)))
                 })
                 .collect();
             let largest = self.largest_island(&idx, candidates.iter());

@@ -171,6 +171,8 @@ pub struct Summary {
     pub simulated_time_s: f64,
     /// Shots in the run.
     pub shots: usize,
+    /// Shots the feed should have delivered on average (rate x duration for streams).
+    pub shots_expected: f64,
     /// Shots with at least one specimen contact.
     pub shots_hit: usize,
     /// `shots_hit / shots`.
@@ -241,6 +243,7 @@ impl Summary {
             seed: scene.seed,
             simulated_time_s: out.end_time,
             shots: n,
+            shots_expected: scene.feed.expected_count(),
             shots_hit,
             hit_fraction: if n > 0 {
                 shots_hit as f64 / n as f64
@@ -315,6 +318,13 @@ impl Summary {
             self.impacts,
             self.rebound_hits
         );
+        if (self.shots as f64) < 0.9 * self.shots_expected {
+            let _ = writeln!(
+                s,
+                "warning: the inlet throttled the stream: {} of {:.0} expected shots entered (shots at rest block their entry spot until drag moves them); raise shots.feed.entry_speed_m_s or lower the rate",
+                self.shots, self.shots_expected
+            );
+        }
         if self.left_domain + self.failed > 0 {
             let _ = writeln!(
                 s,

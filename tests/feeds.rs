@@ -70,3 +70,35 @@ radial_offset_mm = [0.0, 2.6]
         }
     }
 }
+
+#[test]
+fn dense_stream_with_windows_shrinking_around_entering_shots() {
+    // 200,000 shots/s: islands grow, windows shrink, and shots keep entering meanwhile.
+    let text = r#"
+duration_ms = 3.0
+[shots.feed]
+type = "stream"
+rate_per_s = 200000.0
+"#;
+    let scene = Scene::from_toml(text, "dense stream").unwrap();
+    let out = Simulation::new(&scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {});
+    assert!(out.events.is_empty(), "{:?}", out.events);
+    // The inlet cannot take 200,000 shots/s entering at rest: the feed throttles and the
+    // summary says so.
+    assert!(
+        out.shots.len() > 200 && out.shots.len() < 600,
+        "{}",
+        out.shots.len()
+    );
+    let summary = peenflow::summary::Summary::new(&scene, &scene.effects().decisions, &out, 0.0, 1);
+    assert!(summary.text().contains("the inlet throttled the stream"));
+    assert!(
+        out.shots
+            .iter()
+            .all(|s| s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()))
+    );
+    let collisions: u32 = out.shots.iter().map(|s| s.collisions).sum();
+    assert!(collisions > 0);
+}

@@ -95,6 +95,10 @@ fn killed_runs_never_leave_a_truncated_impacts_h5() {
             .spawn()
             .unwrap();
         std::thread::sleep(std::time::Duration::from_millis(20 * k));
+        // A run that ended before the kill must have succeeded.
+        if let Some(status) = child.try_wait().unwrap() {
+            assert!(status.success(), "run ended with {status} before the kill");
+        }
         let _ = child.kill();
         let _ = child.wait();
         let h5 = out.join("impacts.h5");
