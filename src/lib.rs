@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod accuracy;
 pub mod cli;
 pub mod contact;
 pub mod counters;
@@ -17,6 +18,7 @@ pub mod forces;
 pub mod integrate;
 pub mod mesh;
 pub mod output;
+pub mod plot;
 pub mod record;
 pub mod scene;
 pub mod sim;

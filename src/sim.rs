@@ -96,6 +96,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         contact_steps: scene.integrator.contact_steps,
         domain: scene.domain,
         max_step: scene.integrator.max_step,
+        method: scene.integrator.method,
     }
 }
 

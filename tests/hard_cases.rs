@@ -46,6 +46,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
             top: 10.0,
         },
         max_step: 1e-3,
+        method: peenflow::integrate::island::Method::Adaptive,
     }
 }
 

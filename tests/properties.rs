@@ -79,6 +79,7 @@ proptest! {
             contact_steps: 50.0,
             domain: Domain { radius: 100.0, top: 100.0 },
             max_step: 1e-3,
+            method: peenflow::integrate::island::Method::Adaptive,
         };
         let ke = |s: &[ShotState]| s.iter().map(|s| 0.5 * s.body.mass * s.vel.norm_squared()).sum::<f64>();
         let p = |s: &[ShotState]| s.iter().map(|s| s.vel * s.body.mass).sum::<Vec3>();

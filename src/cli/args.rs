@@ -23,6 +23,9 @@ pub enum Command {
     Init(InitArgs),
     /// Export impacts (from a run's impacts.h5) as FE decks, VTK or CSV.
     Export(ExportArgs),
+    /// Measure what accuracy costs in time: a ladder of integrator settings against a
+    /// converged reference; table, accuracy.csv and a log-log plot.
+    Accuracy(AccuracyArgs),
     /// List the built-in materials.
     Materials,
 }
@@ -127,4 +130,26 @@ pub struct InitArgs {
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,
+}
+
+/// `peenflow accuracy`.
+#[derive(Debug, clap::Args)]
+pub struct AccuracyArgs {
+    /// Scene file (default: the embedded Table 2 scene).
+    pub scene: Option<PathBuf>,
+    /// Recommend the cheapest setting whose error is at most this (e.g. 0.1%).
+    #[arg(long)]
+    pub target: Option<String>,
+    /// Seeds per setting when shot-shot contact makes trajectories chaotic.
+    #[arg(long, default_value_t = 5)]
+    pub seeds: u64,
+    /// Output directory (accuracy.csv, accuracy.png, accuracy.svg).
+    #[arg(short, long, default_value = "accuracy-out")]
+    pub out: PathBuf,
+    /// Write into a directory that already holds files.
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads.
+    #[arg(short = 'j', long)]
+    pub threads: Option<usize>,
 }

@@ -9,7 +9,7 @@ use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
 use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
-pub use args::{Cli, Command, ExportArgs, InitArgs, RunArgs};
+pub use args::{AccuracyArgs, Cli, Command, ExportArgs, InitArgs, RunArgs};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
@@ -20,6 +20,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Run(a) => run_scene(a),
         Command::Init(a) => init(a),
         Command::Export(a) => export(a),
+        Command::Accuracy(a) => accuracy(a),
         Command::Materials => {
             println!(
                 "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
@@ -249,6 +250,86 @@ fn export(a: ExportArgs) -> Result<()> {
     )?;
     for p in written {
         println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+fn set_threads(n: Option<usize>) -> Result<()> {
+    if let Some(n) = n {
+        if n == 0 {
+            bail!("--threads 0: allowed 1 or more");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot set up the worker threads")?;
+    }
+    Ok(())
+}
+
+fn accuracy(a: AccuracyArgs) -> Result<()> {
+    let scene = match &a.scene {
+        Some(p) => Scene::load(p)?,
+        None => Scene::default_scene(),
+    };
+    let target = match &a.target {
+        Some(t) => Some(crate::accuracy::parse_target(t).with_context(|| {
+            format!("--target {t}: give a positive fraction or percentage, e.g. 0.1% or 0.001")
+        })?),
+        None => None,
+    };
+    if a.seeds == 0 || a.seeds > 1000 {
+        bail!("--seeds {}: allowed 1 to 1000", a.seeds);
+    }
+    set_threads(a.threads)?;
+    output::prepare_dir(&a.out, a.force)?;
+    let settings = crate::accuracy::ladder();
+    let bar = if std::io::stderr().is_terminal() {
+        ProgressBar::with_draw_target(Some(settings.len() as u64), ProgressDrawTarget::stderr())
+    } else {
+        ProgressBar::hidden()
+    };
+    let study = crate::accuracy::study(&scene, a.seeds, &settings, 0.05, &|k, _| {
+        bar.set_position(k as u64)
+    });
+    bar.finish_and_clear();
+    print!("{}", study.table());
+    output::write_atomic(&a.out.join("accuracy.csv"), &study.csv())?;
+    crate::plot::lines(
+        &a.out.join("accuracy"),
+        &format!("{}: error against cost", scene.title),
+        ("wall time, s", "error (relative)"),
+        &study.series(),
+        true,
+    )?;
+    println!(
+        "wrote {}/accuracy.csv, accuracy.png, accuracy.svg",
+        a.out.display()
+    );
+    if let Some(t) = target {
+        match study.recommend(t) {
+            Some(r) => println!(
+                "recommended for a {}% target: {} = {} ({} s, error {:.2e})",
+                t * 100.0,
+                if r.method == "verlet" {
+                    "velocity Verlet step (s)"
+                } else {
+                    "[integrator] tolerance"
+                },
+                r.setting,
+                r.wall_time_s,
+                r.error
+            ),
+            None => bail!(
+                "no setting of the ladder meets the {}% target; the best error was {:.2e}",
+                t * 100.0,
+                study
+                    .rows
+                    .iter()
+                    .map(|r| r.error)
+                    .fold(f64::INFINITY, f64::min)
+            ),
+        }
     }
     Ok(())
 }

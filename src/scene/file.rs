@@ -347,6 +347,10 @@ pub struct IntegratorFile {
     pub contact_steps: f64,
     /// Largest step, ms.
     pub max_step_ms: f64,
+    /// `"adaptive"` (error-controlled, default) or `"verlet"` (fixed step, a baseline).
+    pub method: String,
+    /// The fixed step of `method = "verlet"`, ns.
+    pub fixed_step_ns: Option<f64>,
 }
 
 impl Default for IntegratorFile {
@@ -355,6 +359,8 @@ impl Default for IntegratorFile {
             tolerance: 1e-6,
             contact_steps: 50.0,
             max_step_ms: 0.5,
+            method: "adaptive".into(),
+            fixed_step_ns: None,
         }
     }
 }

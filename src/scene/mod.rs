@@ -232,6 +232,8 @@ pub struct IntegratorSettings {
     pub contact_steps: f64,
     /// Largest step, s.
     pub max_step: f64,
+    /// Integration method.
+    pub method: crate::integrate::island::Method,
 }
 
 /// A checked scene in SI units.

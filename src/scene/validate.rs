@@ -645,7 +645,32 @@ impl SceneFile {
             )?,
         };
         let it = &f.integrator;
+        let method = match (it.method.as_str(), it.fixed_step_ns) {
+            ("adaptive", None) => crate::integrate::island::Method::Adaptive,
+            ("adaptive", Some(_)) => {
+                return Err(c.invalid(
+                    "integrator.fixed_step_ns",
+                    "only used with method = \"verlet\"",
+                ));
+            }
+            ("verlet", Some(ns)) => crate::integrate::island::Method::Verlet {
+                step: c.range("integrator.fixed_step_ns", ns, B::Ex(0.0), B::In(1e6), "ns")? * 1e-9,
+            },
+            ("verlet", None) => {
+                return Err(c.invalid(
+                    "integrator.method",
+                    "method = \"verlet\" needs fixed_step_ns",
+                ));
+            }
+            (other, _) => {
+                return Err(c.invalid(
+                    "integrator.method",
+                    format!("unknown value \"{other}\"; allowed: \"adaptive\", \"verlet\""),
+                ));
+            }
+        };
         let integrator = IntegratorSettings {
+            method,
             tolerance: c.range(
                 "integrator.tolerance",
                 it.tolerance,

@@ -1,0 +1,300 @@
+//! Plots as PNG and SVG (plotters). Text is set in DejaVu Sans, embedded by the `dejavu`
+//! crate, so no system font or fontconfig is needed on the machine.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use thiserror::Error;
+
+/// Plotting errors.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum PlotError {
+    /// Drawing or writing failed.
+    #[error("{path}: cannot draw the plot: {message}")]
+    Draw {
+        /// File.
+        path: String,
+        /// Cause.
+        message: String,
+    },
+}
+
+/// One named curve.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub name: String,
+    /// Points `(x, y)`.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A named set of bars on shared categories (a grouped bar chart / histogram).
+#[derive(Debug, Clone)]
+pub struct Bars {
+    /// Legend label.
+    pub name: String,
+    /// One value per category.
+    pub values: Vec<f64>,
+}
+
+fn register_fonts() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+type DResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Axis label: plain for ordinary magnitudes, `1e-6` style otherwise.
+fn short(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+fn draw_lines<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    (xl, yl): (&str, &str),
+    series: &[Series],
+    log: bool,
+) -> DResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let pts = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| !log || (p.0 > 0.0 && p.1 > 0.0));
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in pts {
+        x0 = x0.min(p.0);
+        x1 = x1.max(p.0);
+        y0 = y0.min(p.1);
+        y1 = y1.max(p.1);
+    }
+    if !x0.is_finite() {
+        (x0, x1, y0, y1) = (1.0, 10.0, 1.0, 10.0);
+    }
+    let mut builder = ChartBuilder::on(&root);
+    let chart = builder
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(72);
+    if log {
+        let (x0, x1) = (x0 / 1.5, x1 * 1.5);
+        let (y0, y1) = (y0 / 2.0, y1 * 2.0);
+        let mut c = chart.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+        c.configure_mesh()
+            .x_desc(xl)
+            .y_desc(yl)
+            .x_label_formatter(&|v| short(*v))
+            .y_label_formatter(&|v| short(*v))
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        for (k, s) in series.iter().enumerate() {
+            let color = COLORS[k % COLORS.len()];
+            let p: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+                .collect();
+            c.draw_series(LineSeries::new(p.clone(), color.stroke_width(2)))?
+                .label(s.name.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            c.draw_series(p.iter().map(|&q| Circle::new(q, 4, color.filled())))?;
+        }
+        c.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()?;
+    } else {
+        let pad = 0.05 * (y1 - y0).abs().max(1e-12);
+        let mut c = chart.build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
+        c.configure_mesh()
+            .x_desc(xl)
+            .y_desc(yl)
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        for (k, s) in series.iter().enumerate() {
+            let color = COLORS[k % COLORS.len()];
+            c.draw_series(LineSeries::new(s.points.clone(), color.stroke_width(2)))?
+                .label(s.name.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            c.draw_series(s.points.iter().map(|&q| Circle::new(q, 4, color.filled())))?;
+        }
+        c.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn draw_bars<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    (xl, yl): (&str, &str),
+    categories: &[String],
+    bars: &[Bars],
+) -> DResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let n = categories.len().max(1);
+    let y1 = bars
+        .iter()
+        .flat_map(|b| b.values.iter())
+        .cloned()
+        .fold(0.0, f64::max)
+        .max(1e-12)
+        * 1.15;
+    let mut c = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(48)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..n as f64, 0.0..y1)?;
+    let cats = categories.to_vec();
+    c.configure_mesh()
+        .disable_x_mesh()
+        .x_desc(xl)
+        .y_desc(yl)
+        .x_labels(n + 1)
+        .x_label_formatter(&move |x| {
+            let k = x.floor() as usize;
+            if (x - x.floor() - 0.5).abs() < 0.26 {
+                cats.get(k).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .label_style(("sans-serif", 13))
+        .draw()?;
+    let m = bars.len().max(1) as f64;
+    for (j, b) in bars.iter().enumerate() {
+        let color = COLORS[j % COLORS.len()];
+        let w = 0.8 / m;
+        c.draw_series(b.values.iter().enumerate().map(|(k, &v)| {
+            let x0 = k as f64 + 0.1 + j as f64 * w;
+            Rectangle::new([(x0, 0.0), (x0 + w * 0.95, v)], color.filled())
+        }))?
+        .label(b.name.clone())
+        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], color.filled()));
+    }
+    c.configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+fn both(stem: &Path, f: &dyn Fn(&Path, bool) -> DResult) -> Result<(), PlotError> {
+    register_fonts();
+    for (ext, png) in [("png", true), ("svg", false)] {
+        let p = stem.with_extension(ext);
+        f(&p, png).map_err(|e| PlotError::Draw {
+            path: p.display().to_string(),
+            message: e.to_string(),
+        })?;
+    }
+    Ok(())
+}
+
+/// Writes `stem.png` and `stem.svg`: curves, log-log when `log`.
+pub fn lines(
+    stem: &Path,
+    title: &str,
+    labels: (&str, &str),
+    series: &[Series],
+    log: bool,
+) -> Result<(), PlotError> {
+    both(stem, &|p, png| {
+        if png {
+            draw_lines(
+                BitMapBackend::new(p, (900, 600)).into_drawing_area(),
+                title,
+                labels,
+                series,
+                log,
+            )
+        } else {
+            draw_lines(
+                SVGBackend::new(p, (900, 600)).into_drawing_area(),
+                title,
+                labels,
+                series,
+                log,
+            )
+        }
+    })
+}
+
+/// Writes `stem.png` and `stem.svg`: grouped bars over `categories`.
+pub fn bars(
+    stem: &Path,
+    title: &str,
+    labels: (&str, &str),
+    categories: &[String],
+    bars: &[Bars],
+) -> Result<(), PlotError> {
+    both(stem, &|p, png| {
+        if png {
+            draw_bars(
+                BitMapBackend::new(p, (900, 600)).into_drawing_area(),
+                title,
+                labels,
+                categories,
+                bars,
+            )
+        } else {
+            draw_bars(
+                SVGBackend::new(p, (900, 600)).into_drawing_area(),
+                title,
+                labels,
+                categories,
+                bars,
+            )
+        }
+    })
+}

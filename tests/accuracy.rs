@@ -1,0 +1,126 @@
+//! `peenflow accuracy` on the single-shot scene: the error falls as the tolerance tightens
+//! (and as the Verlet step shrinks), and the `--target 0.1%` recommendation meets its
+//! target when checked against an independent reference (the lone shot's impact speed
+//! from a tolerance-1e-10 run, itself within 1e-7 of the fixed-step RK4 reference of
+//! tests/physics_single_shot.rs).
+
+mod common;
+use common::*;
+use peenflow::accuracy::{Mode, Setting, ladder, study};
+use peenflow::scene::Scene;
+use peenflow::sim::Simulation;
+
+fn single() -> Scene {
+    Scene::load(&root().join("examples/single_shot.toml")).unwrap()
+}
+
+#[test]
+fn error_falls_as_the_tolerance_tightens() {
+    let s = study(&single(), 1, &ladder(), 0.0, &|_, _| {});
+    assert_eq!(s.mode, Mode::Pairwise);
+    println!("{}", s.table());
+    let err = |m: &str, v: f64| {
+        s.rows
+            .iter()
+            .find(|r| r.method == m && r.setting == v)
+            .unwrap()
+            .error
+    };
+    // Adaptive: two decades of tolerance buy at least one decade of error.
+    assert!(err("adaptive", 1e-8) < 0.1 * err("adaptive", 1e-6));
+    assert!(err("adaptive", 1e-6) < err("adaptive", 1e-3));
+    assert!(
+        err("adaptive", 1e-3) < 1e-3,
+        "even the loosest tolerance meets 0.1 %"
+    );
+    // Verlet: first order in the step near the contact; halving the step helps.
+    assert!(
+        err("verlet", 10e-9) < err("verlet", 20e-9) && err("verlet", 20e-9) < err("verlet", 50e-9)
+    );
+    // The adaptive method needs orders of magnitude fewer steps for a better error.
+    let steps = |m: &str, v: f64| {
+        s.rows
+            .iter()
+            .find(|r| r.method == m && r.setting == v)
+            .unwrap()
+            .shot_steps
+    };
+    assert!(steps("adaptive", 1e-6) * 100 < steps("verlet", 20e-9));
+    assert!(err("adaptive", 1e-6) < err("verlet", 10e-9));
+}
+
+#[test]
+fn target_recommendation_meets_its_target() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("examples/single_shot.toml");
+    let o = peenflow(
+        &[
+            "accuracy",
+            scene.to_str().unwrap(),
+            "--target",
+            "0.1%",
+            "--out",
+            "acc",
+        ],
+        tmp.path(),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for f in ["accuracy.csv", "accuracy.png", "accuracy.svg"] {
+        assert!(tmp.path().join("acc").join(f).exists(), "{f}");
+    }
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("recommended for a 0.1% target:"))
+        .unwrap();
+    let value: f64 = line
+        .split(" = ")
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let setting = if line.contains("tolerance") {
+        Setting::Tolerance(value)
+    } else {
+        Setting::Verlet(value)
+    };
+    let run = |st: Setting| {
+        let mut s = single();
+        match st {
+            Setting::Tolerance(t) => s.integrator.tolerance = t,
+            Setting::Verlet(h) => {
+                s.integrator.method = peenflow::integrate::island::Method::Verlet { step: h }
+            }
+        }
+        Simulation::new(&s, &s.effects())
+            .unwrap()
+            .run(&|_| {})
+            .impacts[0]
+            .clone()
+    };
+    let (got, reference) = (run(setting), run(Setting::Tolerance(1e-10)));
+    let err = rel(got.speed_m_s, reference.speed_m_s).max(rel(got.time_s, reference.time_s));
+    println!("{line}: independent check error {err:.2e}");
+    assert!(err <= 1e-3);
+    // An impossible target is refused with a clear message.
+    let o = peenflow(
+        &[
+            "accuracy",
+            scene.to_str().unwrap(),
+            "--target",
+            "1e-12",
+            "--out",
+            "acc2",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no setting of the ladder meets"));
+}
