@@ -58,6 +58,44 @@ fn draw_diameter(sizes: &SizeDistribution, rng: &mut ChaCha8Rng) -> f64 {
     }
 }
 
+/// A hash grid of placed shots for overlap checks during placement.
+struct Grid {
+    cell: f64,
+    cells: std::collections::HashMap<(i64, i64, i64), Vec<usize>>,
+}
+
+impl Grid {
+    fn new(cell: f64) -> Self {
+        Grid { cell, cells: Default::default() }
+    }
+
+    fn key(&self, p: &Vec3) -> (i64, i64, i64) {
+        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64, (p.z / self.cell).floor() as i64)
+    }
+
+    fn insert(&mut self, p: &Vec3, index: usize) {
+        let k = self.key(p);
+        self.cells.entry(k).or_default().push(index);
+    }
+
+    /// Whether a sphere of radius `r` at `p` overlaps none of `shots` in the grid.
+    fn clear(&self, shots: &[ShotState], p: &Vec3, r: f64) -> bool {
+        let (cx, cy, cz) = self.key(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                        if v.iter().any(|&i| (shots[i].pos - p).norm() < shots[i].body.radius + r) {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
 /// Mass (kg) of a sphere of diameter `d` (m) and density `rho` (kg/m^3).
 pub fn sphere_mass(d: f64, rho: f64) -> f64 {
     rho * std::f64::consts::PI / 6.0 * d * d * d
@@ -199,6 +237,54 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                     t,
                 ));
                 id += 1;
+            }
+        }
+        Feed::Box { count, min, max, velocity } => {
+            let mut grid = Grid::new(2.0 * scene.sizes.max_diameter());
+            for i in 0..*count {
+                let d = draw_diameter(&scene.sizes, &mut rng);
+                let r = 0.5 * d;
+                let mut placed = None;
+                for _ in 0..PLACEMENT_ATTEMPTS {
+                    let p = Vec3::new(
+                        rng.random_range(min.x + r..=max.x - r),
+                        rng.random_range(min.y + r..=max.y - r),
+                        rng.random_range(min.z + r..=max.z - r),
+                    );
+                    if grid.clear(&shots, &p, r) {
+                        placed = Some(p);
+                        break;
+                    }
+                }
+                let Some(p) = placed else {
+                    return Err(SceneError::Invalid {
+                        path: scene.path.clone(),
+                        key: "shots.feed".into(),
+                        message: format!("cannot place shot {} of {count} without overlap in the box: make it larger or lower count", i + 1),
+                    });
+                };
+                grid.insert(&p, shots.len());
+                shots.push(ShotState::new(ShotId(i), p, *velocity, body(d), 0.0));
+            }
+        }
+        Feed::Bed { nx, ny, layers, squeeze } => {
+            let d = scene.sizes.max_diameter();
+            let a = d * std::f64::consts::SQRT_2 * (1.0 - squeeze);
+            let r = 0.5 * d;
+            let mut id = 0;
+            for k in 0..*layers {
+                // (001) layers a/2 apart; alternate layers shift by half a cell.
+                let z = r + k as f64 * 0.5 * a;
+                let shift = if k % 2 == 0 { [(0.0, 0.0), (0.5, 0.5)] } else { [(0.5, 0.0), (0.0, 0.5)] };
+                for j in 0..*ny {
+                    for i in 0..*nx {
+                        for (sx, sy) in shift {
+                            let p = Vec3::new((i as f64 + sx + 0.25) * a, (j as f64 + sy + 0.25) * a, z);
+                            shots.push(ShotState::new(ShotId(id), p, Vec3::zeros(), body(d), 0.0));
+                            id += 1;
+                        }
+                    }
+                }
             }
         }
         Feed::List(list) => {

@@ -443,6 +443,89 @@ impl Simulation {
     }
 
     /// Runs one synchronisation window `[self.t, t1]`.
+    /// Candidate pairs for the window `[t0, t1]` out of `widest` (pairs found with the
+    /// absolute reach of a longer window), given each shot's absolute reach `reach`.
+    ///
+    /// A shot that touches nothing during the window keeps its velocity up to body forces,
+    /// so two such shots can only meet if their *relative* motion closes the gap:
+    /// `gap < |v_i - v_j| H + (a_i + a_j) H^2 / 2`. Shots moving together (a stream, a
+    /// falling pack) are then independent however close. A shot that may be kicked (its
+    /// absolute reach touches the specimen or the bore wall, or it is in a pair closing by
+    /// relative motion, or in contact) may leave with any velocity, so its pairs use the
+    /// absolute reach, and whoever it may hit may be kicked in turn: the kicked set is
+    /// propagated through the absolute-reach pairs.
+    fn refine_candidates(
+        &self,
+        widest: &HashSet<(u32, u32)>,
+        reach: &[f64],
+        kicked: &mut [bool],
+        t0: f64,
+        t1: f64,
+    ) -> HashSet<(u32, u32)> {
+        let span = t1 - t0;
+        let entered = |i: usize| self.shots[i].t_start < t1;
+        // Pairs within absolute reach (and pairs in contact), both shots taking part.
+        let abs: Vec<(u32, u32)> = widest
+            .iter()
+            .copied()
+            .filter(|&(a, b)| {
+                let (a, b) = (a as usize, b as usize);
+                entered(a)
+                    && entered(b)
+                    && ((self.shots[a].pos - self.shots[b].pos).norm() < reach[a] + reach[b]
+                        || self.pairs.contains_key(&(a as u32, b as u32)))
+            })
+            .collect();
+        let closing = |a: usize, b: usize| -> bool {
+            let (sa, sb) = (&self.shots[a], &self.shots[b]);
+            let gap = (sa.pos - sb.pos).norm() - sa.body.radius - sb.body.radius;
+            let acc = self.physics.forces.acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
+                + self.physics.forces.acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
+            gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
+        };
+        kicked.iter_mut().for_each(|k| *k = false);
+        let mut stack: Vec<usize> = Vec::new();
+        let mut mark = |i: usize, kicked: &mut [bool], stack: &mut Vec<usize>| {
+            if !kicked[i] {
+                kicked[i] = true;
+                stack.push(i);
+            }
+        };
+        let specimen = self.physics.contacts.specimen.is_some();
+        let wall = self.physics.contacts.wall;
+        for (i, s) in self.shots.iter().enumerate() {
+            if !s.is_active() || !entered(i) {
+                continue;
+            }
+            let near_specimen = specimen && s.pos.z < reach[i];
+            let near_wall = wall.is_some_and(|w| {
+                w.geometry(&s.pos, s.body.radius).is_some_and(|g| g.gap < reach[i] - s.body.radius)
+            });
+            if near_specimen || near_wall || s.on_specimen || s.on_wall {
+                mark(i, kicked, &mut stack);
+            }
+        }
+        let mut adjacency: HashMap<u32, Vec<u32>> = HashMap::default();
+        for &(a, b) in &abs {
+            if self.pairs.contains_key(&(a, b)) || closing(a as usize, b as usize) {
+                mark(a as usize, kicked, &mut stack);
+                mark(b as usize, kicked, &mut stack);
+            }
+            adjacency.entry(a).or_default().push(b);
+            adjacency.entry(b).or_default().push(a);
+        }
+        while let Some(i) = stack.pop() {
+            if let Some(nb) = adjacency.get(&(i as u32)) {
+                for &j in nb {
+                    mark(j as usize, kicked, &mut stack);
+                }
+            }
+        }
+        abs.into_iter()
+            .filter(|&(a, b)| kicked[a as usize] || kicked[b as usize] || closing(a as usize, b as usize))
+            .collect()
+    }
+
     /// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
     /// margin for collision kicks) times span plus the body-force bound.
     fn inflated_radius(&self, s: &ShotState, t0: f64, t1: f64) -> f64 {
@@ -500,6 +583,7 @@ impl Simulation {
         // Candidates for the longest window; shorter windows only need a subset of them.
         let widest = self.candidates(&all, t0, t1);
         let mut reach = vec![0.0; self.shots.len()];
+        let mut kicked = vec![false; self.shots.len()];
         let (idx, mut candidates) = loop {
             let idx: Vec<usize> = all
                 .iter()
@@ -509,19 +593,7 @@ impl Simulation {
             for &i in &idx {
                 reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
             }
-            let candidates: HashSet<(u32, u32)> = widest
-                .iter()
-                .copied()
-                .filter(|&(a, b)| {
-                    let (a, b) = (a as usize, b as usize);
-                    // Both must take part in this (possibly shortened) window: a shot of a
-                    // stream may enter only after it.
-                    self.shots[a].t_start < t1
-                        && self.shots[b].t_start < t1
-                        && ((self.shots[a].pos - self.shots[b].pos).norm() < reach[a] + reach[b]
-                            || self.pairs.contains_key(&(a as u32, b as u32)))
-                })
-                .collect();
+            let candidates = self.refine_candidates(&widest, &reach, &mut kicked, t0, t1);
             let largest = self.largest_island(&idx, candidates.iter());
             // Stop when islands are small, when they are mostly held together by contacts
             // in progress (shrinking cannot split those), or at the shortest window.

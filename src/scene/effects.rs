@@ -127,6 +127,7 @@ impl Scene {
         let count = self.feed.expected_count();
         let in_bore = match &self.feed {
             Feed::Batch { .. } | Feed::Stream { .. } => true,
+            Feed::Box { .. } | Feed::Bed { .. } => false,
             Feed::List(list) => list.iter().any(|s| {
                 let z0 = self.nozzle.standoff;
                 let r = (s.position.x.powi(2) + s.position.y.powi(2)).sqrt();

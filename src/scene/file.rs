@@ -256,6 +256,32 @@ pub enum FeedFile {
         #[serde(default = "default_arrivals")]
         arrivals: String,
     },
+    /// `count` shots at random non-overlapping places in a box, all with one velocity
+    /// (a "pack", as LIGGGHTS' insert/pack).
+    Box {
+        /// Number of shots.
+        count: u32,
+        /// Lower corner `[x, y, z]`, mm.
+        min_mm: [f64; 3],
+        /// Upper corner `[x, y, z]`, mm.
+        max_mm: [f64; 3],
+        /// Velocity of every shot, m/s.
+        #[serde(default)]
+        velocity_m_s: [f64; 3],
+    },
+    /// An FCC bed of `2 nx ny layers` shots at rest on the specimen, (001) layers parallel
+    /// to it, nearest neighbours `D (1 - squeeze)` apart (as LIGGGHTS' dense.in).
+    Bed {
+        /// Conventional cells along x.
+        nx: u32,
+        /// Conventional cells along y.
+        ny: u32,
+        /// (001) layers.
+        layers: u32,
+        /// Relative pre-compression of the nearest-neighbour distance (0: touching).
+        #[serde(default)]
+        squeeze: f64,
+    },
     /// Shots placed one by one.
     List {
         /// The shots.

@@ -197,6 +197,28 @@ pub enum Feed {
         /// Poisson (true) or regular arrivals.
         poisson: bool,
     },
+    /// Random pack in a box with one velocity.
+    Box {
+        /// Number of shots.
+        count: u32,
+        /// Lower corner, m.
+        min: Vec3,
+        /// Upper corner, m.
+        max: Vec3,
+        /// Velocity, m/s.
+        velocity: Vec3,
+    },
+    /// FCC bed resting on the specimen.
+    Bed {
+        /// Cells along x.
+        nx: u32,
+        /// Cells along y.
+        ny: u32,
+        /// Layers.
+        layers: u32,
+        /// Relative pre-compression.
+        squeeze: f64,
+    },
     /// Explicit shots.
     List(Vec<ListShot>),
 }
@@ -208,6 +230,8 @@ impl Feed {
             Feed::Batch { count, .. } => *count as f64,
             Feed::Stream { rate, duration, .. } => rate * duration,
             Feed::List(l) => l.len() as f64,
+            Feed::Box { count, .. } => *count as f64,
+            Feed::Bed { nx, ny, layers, .. } => 2.0 * *nx as f64 * *ny as f64 * *layers as f64,
         }
     }
 }
