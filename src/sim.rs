@@ -485,7 +485,7 @@ impl Simulation {
         };
         kicked.iter_mut().for_each(|k| *k = false);
         let mut stack: Vec<usize> = Vec::new();
-        let mut mark = |i: usize, kicked: &mut [bool], stack: &mut Vec<usize>| {
+        let mark = |i: usize, kicked: &mut [bool], stack: &mut Vec<usize>| {
             if !kicked[i] {
                 kicked[i] = true;
                 stack.push(i);

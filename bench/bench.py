@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""peenflow benchmarks (never run as tests; numbers go to docs/performance.md).
+
+usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
+
+  default     benchmarks (a)-(d) at 1 and 2 threads: wall time, particle-steps/s,
+              contacts/s, wall time per simulated ms, peak memory (RSS of the process)
+  --quick     skip the 100,000-shot stream
+  --effects   wall time of the default scene with each effect switched off
+  --liggghts  LIGGGHTS 3.8 (Debian `liggghts`) on shared/bench/liggghts/{stream,dense}.in
+              and peenflow on the same scenes, wall-time ratios, and the accuracy check
+              (peenflow's default tolerance must give at least the impact-speed accuracy of
+              a fixed 20 ns step, LIGGGHTS' step for these shots)
+
+The machine is shared and noisy: compare ratios measured in one session.
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "target", "release", "peenflow")
+SCENES = os.path.join(ROOT, "bench", "scenes")
+
+
+def run(cmd, cwd):
+    """Runs cmd, returns (exit status, max RSS in MB, wall seconds of the process)."""
+    import time
+
+    start = time.monotonic()
+    p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(p.pid, 0)
+    p.returncode = os.waitstatus_to_exitcode(status)
+    err = p.stderr.read().decode()
+    if p.returncode not in (0, 1):
+        sys.exit(f"{' '.join(cmd)} failed:\n{err}")
+    return p.returncode, usage.ru_maxrss / 1024.0, time.monotonic() - start
+
+
+def peenflow(scene, threads, tmp, tag):
+    out = os.path.join(tmp, tag)
+    cmd = [BIN, "run"] + ([scene] if scene else []) + ["--out", out, "--force", "-q", "-j", str(threads)]
+    _, rss, _ = run(cmd, tmp)
+    s = json.load(open(os.path.join(out, "summary.json")))
+    contacts = s["contacts"]["shot_specimen"] + s["contacts"]["shot_shot"] + s["contacts"]["shot_wall"]
+    wall = s["wall_time_s"]
+    return {
+        "wall": wall,
+        "shots": s["shots"],
+        "shot_steps": s["steps"]["shot_steps"],
+        "steps_per_s": s["steps"]["shot_steps"] / wall,
+        "contacts": contacts,
+        "contacts_per_s": contacts / wall,
+        "wall_per_ms": wall / (s["simulated_time_s"] * 1e3),
+        "rss_mb": rss,
+    }
+
+
+def benchmarks(tmp, quick):
+    rows = [
+        ("(a) one shot's flight", os.path.join(ROOT, "examples", "single_shot.toml")),
+        ("(b) paper scene, 30 shots, 10 ms", None),
+        ("(c) stream of 10,000 shots through the nozzle", os.path.join(SCENES, "stream_10k.toml")),
+    ]
+    if not quick:
+        rows.append(("(c) stream of 100,000 shots through the nozzle", os.path.join(SCENES, "stream_100k.toml")))
+    rows += [
+        ("(d) dense bed, 10,240 resting shots", os.path.join(SCENES, "bed_10k.toml")),
+        ("pack stream, 10,000 shots at 70 m/s (LIGGGHTS stream.in)", os.path.join(SCENES, "pack_stream_10k.toml")),
+    ]
+    print("| benchmark | threads | wall s | shot-steps | particle-steps/s | contacts | contacts/s | wall s per simulated ms | peak RSS MB |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, scene in rows:
+        for threads in (1, 2):
+            r = peenflow(scene, threads, tmp, f"b{threads}")
+            print(
+                f"| {name} | {threads} | {r['wall']:.3f} | {r['shot_steps']:,} | {r['steps_per_s']:.3g} | "
+                f"{r['contacts']:,} | {r['contacts_per_s']:.3g} | {r['wall_per_ms']:.4g} | {r['rss_mb']:.0f} |"
+            )
+            sys.stdout.flush()
+
+
+def effects(tmp):
+    base = open(os.path.join(ROOT, "src", "scene", "default_scene.toml")).read()
+    names = ["drag", "lateral_force", "gravity", "specimen_contact", "shot_shot_contact", "nozzle_wall_contact"]
+    print("| effect switched off | wall s (median of 5) | shot-steps | note |")
+    print("|---|---|---|---|")
+    for off in [None] + names:
+        text = base
+        if off:
+            text = re.sub(rf'(?m)^{off} = "auto"$', f"{off} = false", text)
+        path = os.path.join(tmp, "effects.toml")
+        open(path, "w").write(text)
+        walls, steps = [], 0
+        for _ in range(5):
+            r = peenflow(path, 1, tmp, "eff")
+            walls.append(r["wall"])
+            steps = r["shot_steps"]
+        walls.sort()
+        note = "all effects on (auto)" if off is None else ""
+        print(f"| {off or '(none)'} | {walls[2]:.4f} | {steps:,} | {note} |")
+        sys.stdout.flush()
+
+
+def liggghts_loop_times(log):
+    return [float(m.group(1)) for m in re.finditer(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)]
+
+
+def liggghts(tmp):
+    if not shutil.which("liggghts"):
+        sys.exit("liggghts not found: apt-get install -y liggghts")
+    inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
+    for f in ("stream.in", "dense.in"):
+        shutil.copy(os.path.join(inputs, f), tmp)
+    results = {}
+    for name, args, timed in [
+        ("stream", ["-in", "stream.in", "-var", "N", "10000"], 1),
+        ("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2),
+    ]:
+        run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
+        loops = liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())
+        results[name] = sum(loops[-timed:])
+    # peenflow on the same scenes (one thread, as LIGGGHTS here).
+    ps = peenflow(os.path.join(SCENES, "pack_stream_10k.toml"), 1, tmp, "ps")
+    bed = peenflow(os.path.join(SCENES, "bed_10k.toml"), 1, tmp, "bed")
+    # Accuracy check on the single shot: adaptive at the default tolerance vs a 20 ns step.
+    acc = os.path.join(tmp, "acc")
+    run([BIN, "accuracy", os.path.join(ROOT, "examples", "single_shot.toml"), "--out", acc, "--force", "-j", "1"], tmp)
+    rows = list(__import__("csv").DictReader(open(os.path.join(acc, "accuracy.csv"))))
+    err = lambda m, v: float(next(r for r in rows if r["method"] == m and abs(float(r["setting"]) - v) < 1e-15)["speed_error"])
+    e_ad, e_vv = err("adaptive", 1e-6), err("verlet", 20e-9)
+    print(f"impact-speed error, single shot: peenflow default tolerance 1e-6: {e_ad:.2e}; fixed 20 ns step: {e_vv:.2e}")
+    assert e_ad <= e_vv, "peenflow's default tolerance is less accurate than a 20 ns fixed step"
+    print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread, tol 1e-6) | LIGGGHTS / peenflow |")
+    print("|---|---|---|---|")
+    print(f"| stream, 10,000 shots at 70 m/s, 170 us | {results['stream']:.2f} | {ps['wall']:.2f} | {results['stream'] / ps['wall']:.2f} |")
+    # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
+    print(f"| dense bed, 10,240 shots, 200 us | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
+
+
+def main():
+    args = set(sys.argv[1:])
+    subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        if "--liggghts" in args:
+            liggghts(tmp)
+        if "--effects" in args:
+            effects(tmp)
+        if not args - {"--quick"}:
+            benchmarks(tmp, "--quick" in args)
+
+
+if __name__ == "__main__":
+    main()
