@@ -66,11 +66,18 @@ struct Grid {
 
 impl Grid {
     fn new(cell: f64) -> Self {
-        Grid { cell, cells: Default::default() }
+        Grid {
+            cell,
+            cells: Default::default(),
+        }
     }
 
     fn key(&self, p: &Vec3) -> (i64, i64, i64) {
-        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64, (p.z / self.cell).floor() as i64)
+        (
+            (p.x / self.cell).floor() as i64,
+            (p.y / self.cell).floor() as i64,
+            (p.z / self.cell).floor() as i64,
+        )
     }
 
     fn insert(&mut self, p: &Vec3, index: usize) {
@@ -85,7 +92,9 @@ impl Grid {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
-                        if v.iter().any(|&i| (shots[i].pos - p).norm() < shots[i].body.radius + r) {
+                        if v.iter()
+                            .any(|&i| (shots[i].pos - p).norm() < shots[i].body.radius + r)
+                        {
                             return false;
                         }
                     }
@@ -239,7 +248,12 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                 id += 1;
             }
         }
-        Feed::Box { count, min, max, velocity } => {
+        Feed::Box {
+            count,
+            min,
+            max,
+            velocity,
+        } => {
             let mut grid = Grid::new(2.0 * scene.sizes.max_diameter());
             for i in 0..*count {
                 let d = draw_diameter(&scene.sizes, &mut rng);
@@ -260,14 +274,22 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                     return Err(SceneError::Invalid {
                         path: scene.path.clone(),
                         key: "shots.feed".into(),
-                        message: format!("cannot place shot {} of {count} without overlap in the box: make it larger or lower count", i + 1),
+                        message: format!(
+                            "cannot place shot {} of {count} without overlap in the box: make it larger or lower count",
+                            i + 1
+                        ),
                     });
                 };
                 grid.insert(&p, shots.len());
                 shots.push(ShotState::new(ShotId(i), p, *velocity, body(d), 0.0));
             }
         }
-        Feed::Bed { nx, ny, layers, squeeze } => {
+        Feed::Bed {
+            nx,
+            ny,
+            layers,
+            squeeze,
+        } => {
             let d = scene.sizes.max_diameter();
             let a = d * std::f64::consts::SQRT_2 * (1.0 - squeeze);
             let r = 0.5 * d;
@@ -275,11 +297,19 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
             for k in 0..*layers {
                 // (001) layers a/2 apart; alternate layers shift by half a cell.
                 let z = r + k as f64 * 0.5 * a;
-                let shift = if k % 2 == 0 { [(0.0, 0.0), (0.5, 0.5)] } else { [(0.5, 0.0), (0.0, 0.5)] };
+                let shift = if k % 2 == 0 {
+                    [(0.0, 0.0), (0.5, 0.5)]
+                } else {
+                    [(0.5, 0.0), (0.0, 0.5)]
+                };
                 for j in 0..*ny {
                     for i in 0..*nx {
                         for (sx, sy) in shift {
-                            let p = Vec3::new((i as f64 + sx + 0.25) * a, (j as f64 + sy + 0.25) * a, z);
+                            let p = Vec3::new(
+                                (i as f64 + sx + 0.25) * a,
+                                (j as f64 + sy + 0.25) * a,
+                                z,
+                            );
                             shots.push(ShotState::new(ShotId(id), p, Vec3::zeros(), body(d), 0.0));
                             id += 1;
                         }

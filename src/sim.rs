@@ -479,8 +479,14 @@ impl Simulation {
         let closing = |a: usize, b: usize| -> bool {
             let (sa, sb) = (&self.shots[a], &self.shots[b]);
             let gap = (sa.pos - sb.pos).norm() - sa.body.radius - sb.body.radius;
-            let acc = self.physics.forces.acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
-                + self.physics.forces.acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
+            let acc = self
+                .physics
+                .forces
+                .acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
+                + self
+                    .physics
+                    .forces
+                    .acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
             gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
         };
         kicked.iter_mut().for_each(|k| *k = false);
@@ -499,7 +505,8 @@ impl Simulation {
             }
             let near_specimen = specimen && s.pos.z < reach[i];
             let near_wall = wall.is_some_and(|w| {
-                w.geometry(&s.pos, s.body.radius).is_some_and(|g| g.gap < reach[i] - s.body.radius)
+                w.geometry(&s.pos, s.body.radius)
+                    .is_some_and(|g| g.gap < reach[i] - s.body.radius)
             });
             if near_specimen || near_wall || s.on_specimen || s.on_wall {
                 mark(i, kicked, &mut stack);
@@ -522,7 +529,9 @@ impl Simulation {
             }
         }
         abs.into_iter()
-            .filter(|&(a, b)| kicked[a as usize] || kicked[b as usize] || closing(a as usize, b as usize))
+            .filter(|&(a, b)| {
+                kicked[a as usize] || kicked[b as usize] || closing(a as usize, b as usize)
+            })
             .collect()
     }
 

@@ -26,6 +26,9 @@ pub enum Command {
     /// Measure what accuracy costs in time: a ladder of integrator settings against a
     /// converged reference; table, accuracy.csv and a log-log plot.
     Accuracy(AccuracyArgs),
+    /// Compare with the paper's outcomes and published trends; write validation.md
+    /// and figures.
+    Validate(ValidateArgs),
     /// List the built-in materials.
     Materials,
 }
@@ -152,4 +155,18 @@ pub struct AccuracyArgs {
     /// Worker threads.
     #[arg(short = 'j', long)]
     pub threads: Option<usize>,
+}
+
+/// `peenflow validate`.
+#[derive(Debug, clap::Args)]
+pub struct ValidateArgs {
+    /// Seeds per scene.
+    #[arg(long, default_value_t = 5)]
+    pub seeds: u64,
+    /// Output directory (validation.md, figures/).
+    #[arg(short, long, default_value = "validation-out")]
+    pub out: PathBuf,
+    /// Write into a directory that already holds files.
+    #[arg(long)]
+    pub force: bool,
 }

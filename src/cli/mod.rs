@@ -9,7 +9,7 @@ use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
 use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
-pub use args::{AccuracyArgs, Cli, Command, ExportArgs, InitArgs, RunArgs};
+pub use args::{AccuracyArgs, Cli, Command, ExportArgs, InitArgs, RunArgs, ValidateArgs};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
@@ -21,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Init(a) => init(a),
         Command::Export(a) => export(a),
         Command::Accuracy(a) => accuracy(a),
+        Command::Validate(a) => validate(a),
         Command::Materials => {
             println!(
                 "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
@@ -331,5 +332,17 @@ fn accuracy(a: AccuracyArgs) -> Result<()> {
             ),
         }
     }
+    Ok(())
+}
+
+fn validate(a: ValidateArgs) -> Result<()> {
+    if a.seeds == 0 || a.seeds > 1000 {
+        bail!("--seeds {}: allowed 1 to 1000", a.seeds);
+    }
+    output::prepare_dir(&a.out, a.force)?;
+    let md = crate::validate::run(&a.out, a.seeds, &|stage| eprintln!("validate: {stage}"))?;
+    output::write_atomic(&a.out.join("validation.md"), md.as_bytes())?;
+    print!("{md}");
+    println!("wrote {}/validation.md and figures/", a.out.display());
     Ok(())
 }

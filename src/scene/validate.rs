@@ -540,7 +540,12 @@ impl SceneFile {
                     poisson,
                 }
             }
-            FeedFile::Box { count, min_mm, max_mm, velocity_m_s } => {
+            FeedFile::Box {
+                count,
+                min_mm,
+                max_mm,
+                velocity_m_s,
+            } => {
                 let k = "shots.feed";
                 if *count == 0 || *count > 10_000_000 {
                     return Err(SceneError::OutOfRange {
@@ -553,15 +558,36 @@ impl SceneFile {
                 let mut lo = [0.0; 3];
                 let mut hi = [0.0; 3];
                 for a in 0..3 {
-                    lo[a] = c.range(&format!("{k}.min_mm[{a}]"), min_mm[a], B::In(-1e5), B::In(1e5), "mm")? * 1e-3;
-                    hi[a] = c.range(&format!("{k}.max_mm[{a}]"), max_mm[a], B::In(-1e5), B::In(1e5), "mm")? * 1e-3;
-                    c.range(&format!("{k}.velocity_m_s[{a}]"), velocity_m_s[a], B::In(-1e4), B::In(1e4), "m/s")?;
+                    lo[a] = c.range(
+                        &format!("{k}.min_mm[{a}]"),
+                        min_mm[a],
+                        B::In(-1e5),
+                        B::In(1e5),
+                        "mm",
+                    )? * 1e-3;
+                    hi[a] = c.range(
+                        &format!("{k}.max_mm[{a}]"),
+                        max_mm[a],
+                        B::In(-1e5),
+                        B::In(1e5),
+                        "mm",
+                    )? * 1e-3;
+                    c.range(
+                        &format!("{k}.velocity_m_s[{a}]"),
+                        velocity_m_s[a],
+                        B::In(-1e4),
+                        B::In(1e4),
+                        "m/s",
+                    )?;
                     if hi[a] - lo[a] < d_max {
                         return Err(c.invalid(&format!("{k}.max_mm"), format!("the box is narrower than a shot along axis {a}: need max_mm - min_mm >= {} mm", num(d_max * 1e3))));
                     }
                 }
                 if lo[2] < r_max {
-                    return Err(c.invalid(&format!("{k}.min_mm"), "min_mm[2] puts shots into the specimen: keep it >= the shot radius"));
+                    return Err(c.invalid(
+                        &format!("{k}.min_mm"),
+                        "min_mm[2] puts shots into the specimen: keep it >= the shot radius",
+                    ));
                 }
                 Feed::Box {
                     count: *count,
@@ -570,7 +596,12 @@ impl SceneFile {
                     velocity: crate::Vec3::new(velocity_m_s[0], velocity_m_s[1], velocity_m_s[2]),
                 }
             }
-            FeedFile::Bed { nx, ny, layers, squeeze } => {
+            FeedFile::Bed {
+                nx,
+                ny,
+                layers,
+                squeeze,
+            } => {
                 let k = "shots.feed";
                 for (name, v) in [("nx", nx), ("ny", ny), ("layers", layers)] {
                     if *v == 0 || *v > 1000 {
@@ -582,11 +613,22 @@ impl SceneFile {
                         });
                     }
                 }
-                let squeeze = c.range(&format!("{k}.squeeze"), *squeeze, B::In(0.0), B::In(0.01), "")?;
+                let squeeze = c.range(
+                    &format!("{k}.squeeze"),
+                    *squeeze,
+                    B::In(0.0),
+                    B::In(0.01),
+                    "",
+                )?;
                 if !matches!(sizes, SizeDistribution::Fixed(_)) {
                     return Err(c.invalid(k, "a bed needs one shot size (shots.diameter_mm)"));
                 }
-                Feed::Bed { nx: *nx, ny: *ny, layers: *layers, squeeze }
+                Feed::Bed {
+                    nx: *nx,
+                    ny: *ny,
+                    layers: *layers,
+                    squeeze,
+                }
             }
             FeedFile::List { shots } => {
                 if shots.is_empty() {
