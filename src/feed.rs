@@ -91,12 +91,11 @@ impl Grid {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz)) {
-                        if v.iter()
+                    if let Some(v) = self.cells.get(&(cx + dx, cy + dy, cz + dz))
+                        && v.iter()
                             .any(|&i| (shots[i].pos - p).norm() < shots[i].body.radius + r)
-                        {
-                            return false;
-                        }
+                    {
+                        return false;
                     }
                 }
             }
