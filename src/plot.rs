@@ -200,9 +200,9 @@ where
         .y_desc(yl)
         .x_labels(n + 1)
         .x_label_formatter(&move |x| {
-            let k = x.floor() as usize;
-            if (x - x.floor() - 0.5).abs() < 0.26 {
-                cats.get(k).cloned().unwrap_or_default()
+            // Ticks sit on bin edges: label each with its bin's lower edge.
+            if (x - x.round()).abs() < 1e-6 {
+                cats.get(x.round() as usize).cloned().unwrap_or_default()
             } else {
                 String::new()
             }

@@ -1,0 +1,79 @@
+//! Regression guards on the validation outcomes the model reproduces (docs/validation.md),
+//! so that a physics change that moves them fails CI. Over 5 seeds of the Table 2 scene:
+//! about a fifth of the shots never reach the specimen (paper: 19 %; measured 17 %);
+//! shot-shot collisions are what spreads the impacts (90th-percentile radius with them at
+//! least 1.5x that without); more shots spread wider (30 against 1). The lone shot lands at
+//! 60.1 m/s with the rho* core and 71.2 m/s with rho_0 (model-notes: ~60 and ~71).
+//! The paper's pressure and shot-size trends are not reproduced by this model (see
+//! docs/model.md) and are therefore not asserted.
+
+mod common;
+use common::*;
+use peenflow::scene::{Scene, Switch};
+use peenflow::validate::{pooled, power_law_exponent};
+
+#[test]
+fn never_reaching_share_is_near_the_papers_19_percent() {
+    let p = pooled(&Scene::default_scene(), 5);
+    println!("never reaching: {:.1} %", 100.0 * p.never());
+    assert!((0.10..=0.28).contains(&p.never()));
+    assert!(p.within_20mm() > 0.9);
+}
+
+#[test]
+fn collisions_spread_the_impacts_and_more_shots_spread_wider() {
+    let base = Scene::default_scene();
+    let with = pooled(&base, 5);
+    let mut off = base.clone();
+    off.effects.switches[4] = Switch::Off;
+    let without = pooled(&off, 5);
+    println!(
+        "p90 radius: {:.2} mm with collisions, {:.2} mm without",
+        with.radius_p(90.0),
+        without.radius_p(90.0)
+    );
+    assert!(with.radius_p(90.0) > 1.5 * without.radius_p(90.0));
+    let mut one = base.clone();
+    one.feed = peenflow::scene::Feed::Batch {
+        count: 1,
+        radial_min: 1.5e-3,
+        radial_max: 2.6e-3,
+        axial_spread: 10e-3,
+    };
+    let single = pooled(&one, 5);
+    assert!(with.radius_p(90.0) > single.radius_p(90.0));
+}
+
+#[test]
+fn power_law_fit_recovers_a_known_exponent() {
+    let pts: Vec<(f64, f64)> = [0.1, 0.3, 0.6, 0.9]
+        .iter()
+        .map(|&p: &f64| (p, 7.0 * p.powf(0.43)))
+        .collect();
+    assert!((power_law_exponent(&pts) - 0.43).abs() < 1e-12);
+}
+
+#[test]
+fn validate_command_writes_the_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = peenflow(&["validate", "--seeds", "1", "--out", "v"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(tmp.path().join("v/validation.md")).unwrap();
+    assert!(
+        md.contains("| lone shot's impact speed, m/s | 65-70 | 60.1 | 71.2 |"),
+        "{md}"
+    );
+    for f in [
+        "impact_speed",
+        "impact_radius",
+        "table1_radius",
+        "speed_vs_pressure",
+    ] {
+        for ext in ["png", "svg"] {
+            assert!(
+                tmp.path().join(format!("v/figures/{f}.{ext}")).exists(),
+                "{f}.{ext}"
+            );
+        }
+    }
+}
