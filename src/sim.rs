@@ -113,10 +113,7 @@ struct SnapshotTap {
 impl SnapshotTap {
     fn new(interval: f64, t0: f64, members: &[ShotState]) -> Self {
         let mut y_prev = Vec::with_capacity(6 * members.len());
-        for m in members {
-            y_prev.extend_from_slice(m.pos.as_slice());
-            y_prev.extend_from_slice(m.vel.as_slice());
-        }
+        island::load_state(members, &mut y_prev);
         SnapshotTap {
             interval,
             t_prev: t0,

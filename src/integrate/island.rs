@@ -119,6 +119,25 @@ fn vel(y: &[f64], i: usize) -> Vec3 {
     Vec3::new(y[6 * i + 3], y[6 * i + 4], y[6 * i + 5])
 }
 
+/// Writes the members' positions and velocities into the flat state `y` (resized).
+pub(crate) fn load_state(members: &[ShotState], y: &mut Vec<f64>) {
+    y.clear();
+    for m in members {
+        y.extend_from_slice(m.pos.as_slice());
+        y.extend_from_slice(m.vel.as_slice());
+    }
+}
+
+/// Copies the flat state back into the members that are still integrated.
+fn store_state(members: &mut [ShotState], y: &[f64]) {
+    for (i, m) in members.iter_mut().enumerate() {
+        if m.is_active() {
+            m.pos = pos(y, i);
+            m.vel = vel(y, i);
+        }
+    }
+}
+
 /// Cubic Hermite interpolation of member `i` between `y0` and `y1` (a step of `h`) at
 /// the fraction `s` of the step: (position, velocity).
 #[inline]
@@ -667,6 +686,43 @@ impl Ctx<'_> {
         None
     }
 
+    /// Bookkeeping after an accepted step at `(t, y)`: the overlap guard (stops the
+    /// island with `suggestion`), separations, and shots leaving the domain. Returns
+    /// `None` when the island was stopped, else whether a shot left.
+    fn end_of_step(
+        &self,
+        members: &mut [ShotState],
+        pairs: &mut [IslandPair],
+        t: f64,
+        y: &[f64],
+        out: &mut IslandOutput,
+        suggestion: &str,
+    ) -> Option<bool> {
+        if let Some(cause) = self.overlap_violation(members, pairs, t, y) {
+            fail_island(
+                members,
+                t,
+                y,
+                out,
+                &format!("{cause}: Hertz contact does not hold there"),
+                suggestion,
+            );
+            return None;
+        }
+        self.update_separations(members, pairs, y);
+        let mut left = false;
+        for (i, m) in members.iter_mut().enumerate() {
+            if m.is_active() && t >= m.t_start && !self.phys.domain.contains(&pos(y, i)) {
+                m.status = ShotStatus::LeftDomain;
+                m.t_stop = Some(t);
+                m.pos = pos(y, i);
+                m.vel = vel(y, i);
+                left = true;
+            }
+        }
+        Some(left)
+    }
+
     /// Separations: contacts whose overlap ended during the last step.
     fn update_separations(&self, members: &mut [ShotState], pairs: &mut [IslandPair], y: &[f64]) {
         let c = &self.phys.contacts;
@@ -780,10 +836,7 @@ pub fn advance_observed(
     scratch.y.resize(6 * n, 0.0);
     scratch.y_new.resize(6 * n, 0.0);
     scratch.err.resize(6 * n, 0.0);
-    for (i, m) in members.iter().enumerate() {
-        scratch.y[6 * i..6 * i + 3].copy_from_slice(m.pos.as_slice());
-        scratch.y[6 * i + 3..6 * i + 6].copy_from_slice(m.vel.as_slice());
-    }
+    load_state(members, &mut scratch.y);
     let r_min = members
         .iter()
         .map(|m| m.body.radius)
@@ -948,34 +1001,22 @@ pub fn advance_observed(
             controller.max(h_wanted)
         };
         observer(t, y);
-        if let Some(cause) = ctx.overlap_violation(members, pairs, t, y) {
-            fail_island(
-                members,
-                t,
-                y,
-                out,
-                &format!("{cause}: Hertz contact does not hold there"),
-                "the shots are too fast or the materials too soft for these sizes: check the materials' youngs_modulus_gpa and the speeds",
-            );
-            break;
-        }
-        ctx.update_separations(members, pairs, y);
-        for (i, m) in members.iter_mut().enumerate() {
-            if m.is_active() && t >= m.t_start && !phys.domain.contains(&pos(y, i)) {
-                m.status = ShotStatus::LeftDomain;
-                m.t_stop = Some(t);
-                m.pos = pos(y, i);
-                m.vel = vel(y, i);
-                dopri.invalidate();
-            }
+        match ctx.end_of_step(
+            members,
+            pairs,
+            t,
+            y,
+            out,
+            "the shots are too fast or the materials too soft for these sizes: check the materials' youngs_modulus_gpa and the speeds",
+        ) {
+            None => break,
+            Some(true) => dopri.invalidate(),
+            Some(false) => {}
         }
     }
-    for (i, m) in members.iter_mut().enumerate() {
-        if m.is_active() {
-            m.pos = pos(y, i);
-            m.vel = vel(y, i);
-            m.h_next = h_next;
-        }
+    store_state(members, y);
+    for m in members.iter_mut().filter(|m| m.is_active()) {
+        m.h_next = h_next;
     }
     out.work.add(&work);
 }
@@ -1022,11 +1063,8 @@ fn advance_verlet(
     let n = members.len();
     scratch.y.resize(6 * n, 0.0);
     scratch.y_new.resize(6 * n, 0.0);
+    load_state(members, &mut scratch.y);
     let Scratch { y, y_new: acc, .. } = scratch;
-    for (i, m) in members.iter().enumerate() {
-        y[6 * i..6 * i + 3].copy_from_slice(m.pos.as_slice());
-        y[6 * i + 3..6 * i + 6].copy_from_slice(m.vel.as_slice());
-    }
     let mut work = WorkCounters::default();
     let set_regions = |members: &mut [ShotState], t: f64, y: &[f64]| {
         if let Some(field) = &phys.forces.field {
@@ -1089,32 +1127,13 @@ fn advance_verlet(
         // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them.
         ctx.apply_events(members, pairs, t, y, out);
         observer(t, y);
-        if let Some(cause) = ctx.overlap_violation(members, pairs, t, y) {
-            fail_island(
-                members,
-                t,
-                y,
-                out,
-                &format!("{cause}: Hertz contact does not hold there"),
-                "use a smaller fixed step",
-            );
+        if ctx
+            .end_of_step(members, pairs, t, y, out, "use a smaller fixed step")
+            .is_none()
+        {
             break;
         }
-        ctx.update_separations(members, pairs, y);
-        for (i, m) in members.iter_mut().enumerate() {
-            if m.is_active() && t >= m.t_start && !phys.domain.contains(&pos(y, i)) {
-                m.status = ShotStatus::LeftDomain;
-                m.t_stop = Some(t);
-                m.pos = pos(y, i);
-                m.vel = vel(y, i);
-            }
-        }
     }
-    for (i, m) in members.iter_mut().enumerate() {
-        if m.is_active() {
-            m.pos = pos(y, i);
-            m.vel = vel(y, i);
-        }
-    }
+    store_state(members, y);
     out.work.add(&work);
 }
