@@ -113,7 +113,14 @@ pub fn sphere_mass(d: f64, rho: f64) -> f64 {
 pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
     let rho = scene.shot_material.density;
-    let inlet = scene.inlet_height();
+    // Placement in the nozzle frame: centres at a depth below the inlet plane along the
+    // axis, at a radial offset across it.
+    let inlet = scene.nozzle.inlet();
+    let axis = scene.nozzle.axis();
+    let (e1, e2) = scene.nozzle.cross_axes();
+    let in_bore = |depth: f64, rho: f64, phi: f64| {
+        inlet + axis * depth + e1 * (rho * phi.cos()) + e2 * (rho * phi.sin())
+    };
     let body = |d: f64| ShotBody {
         radius: 0.5 * d,
         mass: sphere_mass(d, rho),
@@ -140,7 +147,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                     } else {
                         0.0
                     };
-                    let p = Vec3::new(rho_r * phi.cos(), rho_r * phi.sin(), inlet - depth);
+                    let p = in_bore(depth, rho_r, phi);
                     let clear = shots
                         .iter()
                         .all(|s| (s.pos - p).norm() >= s.body.radius + r);
@@ -209,7 +216,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                     for _ in 0..50 {
                         let rho_r = rng.random_range(0.0..=limit * limit).sqrt();
                         let phi = rng.random_range(0.0..std::f64::consts::TAU);
-                        let p = Vec3::new(rho_r * phi.cos(), rho_r * phi.sin(), inlet);
+                        let p = in_bore(0.0, rho_r, phi);
                         let clear = shots
                             .iter()
                             .rev()

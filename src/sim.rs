@@ -40,8 +40,8 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         coefficient: scene.jet.drag_coefficient,
     };
     let field = (effects.drag || effects.lateral_force).then(|| JetField {
-        exit: Vec3::new(0.0, 0.0, scene.exit_height()),
-        axis: Vec3::new(0.0, 0.0, -1.0),
+        exit: scene.nozzle.exit(),
+        axis: scene.nozzle.axis(),
         bore: scene.nozzle.bore,
         length: scene.nozzle.length,
         exit_velocity: scene.air.exit_velocity,
@@ -80,8 +80,8 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         }),
         wall: effects.nozzle_wall_contact.then(|| WallContact {
             law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),
-            exit: Vec3::new(0.0, 0.0, scene.exit_height()),
-            axis: Vec3::new(0.0, 0.0, -1.0),
+            exit: scene.nozzle.exit(),
+            axis: scene.nozzle.axis(),
             bore_radius: 0.5 * scene.nozzle.bore,
             length: scene.nozzle.length,
         }),

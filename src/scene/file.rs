@@ -104,6 +104,12 @@ pub struct NozzleFile {
     pub standoff_mm: f64,
     /// Material of the bore wall (library name).
     pub material: String,
+    /// Peening angle between the nozzle axis and the specimen surface, degrees (90:
+    /// normal to the specimen).
+    pub angle_deg: f64,
+    /// Direction of the tilt in the specimen plane, degrees from +x (the nozzle leans
+    /// away from that direction and shots travel towards it).
+    pub azimuth_deg: f64,
 }
 
 impl Default for NozzleFile {
@@ -113,6 +119,8 @@ impl Default for NozzleFile {
             length_mm: 40.0,
             standoff_mm: 100.0,
             material: "table2-steel".into(),
+            angle_deg: 90.0,
+            azimuth_deg: 0.0,
         }
     }
 }

@@ -40,16 +40,67 @@ pub struct AirInputs {
     pub ambient_density: f64,
 }
 
-/// Nozzle geometry, m. The nozzle exit is at height `standoff` above the specimen,
-/// the inlet at `standoff + length`, the jet axis is the world z axis.
+/// Nozzle geometry, m. The jet axis meets the specimen plane at the origin (the axis
+/// foot); the exit centre lies `standoff` back along the axis, the inlet `length` further.
+/// At the default 90 degrees the axis is the world -z axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NozzleGeometry {
     /// Bore diameter `d`, m.
     pub bore: f64,
     /// Bore length `l_n`, m.
     pub length: f64,
-    /// Stand-off `l`, m.
+    /// Stand-off `l` along the axis, m.
     pub standoff: f64,
+    /// Angle between the axis and the specimen surface, rad (pi/2: normal).
+    pub angle: f64,
+    /// Tilt direction in the specimen plane, rad from +x.
+    pub azimuth: f64,
+}
+
+impl NozzleGeometry {
+    /// Unit vector along the jet axis, downstream.
+    pub fn axis(&self) -> Vec3 {
+        let tilt = std::f64::consts::FRAC_PI_2 - self.angle;
+        if tilt == 0.0 {
+            return Vec3::new(0.0, 0.0, -1.0);
+        }
+        Vec3::new(
+            self.azimuth.cos() * tilt.sin(),
+            self.azimuth.sin() * tilt.sin(),
+            -tilt.cos(),
+        )
+    }
+
+    /// Two unit vectors across the axis (a right-handed frame with the axis); the world
+    /// x and y axes at 90 degrees.
+    pub fn cross_axes(&self) -> (Vec3, Vec3) {
+        let tilt = std::f64::consts::FRAC_PI_2 - self.angle;
+        if tilt == 0.0 {
+            return (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        }
+        let (ca, sa) = (self.azimuth.cos(), self.azimuth.sin());
+        let e1 = Vec3::new(ca * tilt.cos(), sa * tilt.cos(), tilt.sin());
+        let e2 = Vec3::new(-sa, ca, 0.0);
+        (e1, e2)
+    }
+
+    /// Centre of the exit plane, m.
+    pub fn exit(&self) -> Vec3 {
+        let tilt = std::f64::consts::FRAC_PI_2 - self.angle;
+        if tilt == 0.0 {
+            return Vec3::new(0.0, 0.0, self.standoff);
+        }
+        -self.axis() * self.standoff
+    }
+
+    /// Centre of the inlet plane, m.
+    pub fn inlet(&self) -> Vec3 {
+        let tilt = std::f64::consts::FRAC_PI_2 - self.angle;
+        if tilt == 0.0 {
+            return Vec3::new(0.0, 0.0, self.standoff + self.length);
+        }
+        -self.axis() * (self.standoff + self.length)
+    }
 }
 
 /// Which density fills the bore and the potential core (model-notes defect 1).
@@ -326,14 +377,14 @@ impl Scene {
         file.validate(path, text)
     }
 
-    /// Height of the nozzle exit above the specimen, m.
+    /// Height of the nozzle exit centre above the specimen, m.
     pub fn exit_height(&self) -> f64 {
-        self.nozzle.standoff
+        self.nozzle.exit().z
     }
 
-    /// Height of the nozzle inlet above the specimen, m.
+    /// Height of the nozzle inlet centre above the specimen, m.
     pub fn inlet_height(&self) -> f64 {
-        self.nozzle.standoff + self.nozzle.length
+        self.nozzle.inlet().z
     }
 
     /// Density of the bore and core, kg/m^3, per the `core_density` choice.

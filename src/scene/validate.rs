@@ -230,7 +230,27 @@ impl SceneFile {
         );
 
         let n = &f.nozzle;
+        let angle = c
+            .range(
+                "nozzle.angle_deg",
+                n.angle_deg,
+                B::In(30.0),
+                B::In(90.0),
+                "deg",
+            )?
+            .to_radians();
+        let azimuth = c
+            .range(
+                "nozzle.azimuth_deg",
+                n.azimuth_deg,
+                B::In(-360.0),
+                B::In(360.0),
+                "deg",
+            )?
+            .to_radians();
         let nozzle = NozzleGeometry {
+            angle,
+            azimuth,
             bore: c.range("nozzle.bore_mm", n.bore_mm, B::Ex(0.0), B::In(100.0), "mm")? * 1e-3,
             length: c.range(
                 "nozzle.length_mm",
@@ -794,8 +814,7 @@ impl SceneFile {
                 B::In(1e5),
                 "mm",
             )? * 1e-3,
-            top: nozzle.standoff
-                + nozzle.length
+            top: nozzle.inlet().z.max(nozzle.exit().z)
                 + c.range(
                     "domain.above_inlet_mm",
                     dm.above_inlet_mm,
