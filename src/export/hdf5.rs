@@ -408,7 +408,7 @@ pub struct ImpactFile {
     pub impacts: Vec<Impact>,
 }
 
-/// Reads an impact file written by [`write`].
+/// Reads an impact file written by [`write()`].
 pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
     let shown = path.display().to_string();
     let err = |m: String| H5Error::Read {

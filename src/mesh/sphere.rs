@@ -1,5 +1,5 @@
 //! A hex mesh of a ball: an `n x n x n` cube grid mapped onto the ball layer by layer
-//! (see [`spherified`]), which takes the cube's faces onto the sphere. Node sets `ALL`, `SURFACE`; element set `ALL`;
+//! (the "spherified cube" map), which takes the cube's faces onto the sphere. Node sets `ALL`, `SURFACE`; element set `ALL`;
 //! surface `SURFACE` (every outer face).
 
 use super::{Mesh, structured_hexes};
