@@ -133,6 +133,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
             radial_max,
             axial_spread,
         } => {
+            let mut grid = Grid::new(2.0 * scene.sizes.max_diameter());
             for i in 0..*count {
                 let d = draw_diameter(&scene.sizes, &mut rng);
                 let r = 0.5 * d;
@@ -148,10 +149,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                         0.0
                     };
                     let p = in_bore(depth, rho_r, phi);
-                    let clear = shots
-                        .iter()
-                        .all(|s| (s.pos - p).norm() >= s.body.radius + r);
-                    if clear {
+                    if grid.clear(&shots, &p, r) {
                         placed = Some(p);
                         break;
                     }
@@ -169,6 +167,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                         ),
                     });
                 };
+                grid.insert(&p, shots.len());
                 shots.push(ShotState::new(ShotId(i), p, Vec3::zeros(), body(d), 0.0));
             }
         }

@@ -216,43 +216,31 @@ fn werr(path: &Path) -> impl Fn(rust_hdf5::Hdf5Error) -> H5Error + '_ {
     }
 }
 
+/// A 1-D dataset holding `v` (empty datasets are created but not written).
+fn dataset<T: rust_hdf5::types::H5Type + Copy>(
+    g: &H5Group,
+    name: &str,
+    v: &[T],
+    e: &impl Fn(rust_hdf5::Hdf5Error) -> H5Error,
+) -> Result<rust_hdf5::H5Dataset, H5Error> {
+    let ds = g
+        .new_dataset::<T>()
+        .shape([v.len()])
+        .create(name)
+        .map_err(e)?;
+    if !v.is_empty() {
+        ds.write_raw(v).map_err(e)?;
+    }
+    Ok(ds)
+}
+
 fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result<(), H5Error> {
     let e = werr(path);
     for c in cols {
         let (ds, units, desc) = match c {
-            Column::F64(n, u, d, v) => {
-                let ds = g
-                    .new_dataset::<f64>()
-                    .shape([v.len()])
-                    .create(n)
-                    .map_err(&e)?;
-                if !v.is_empty() {
-                    ds.write_raw(v).map_err(&e)?;
-                }
-                (ds, u, d)
-            }
-            Column::U32(n, u, d, v) => {
-                let ds = g
-                    .new_dataset::<u32>()
-                    .shape([v.len()])
-                    .create(n)
-                    .map_err(&e)?;
-                if !v.is_empty() {
-                    ds.write_raw(v).map_err(&e)?;
-                }
-                (ds, u, d)
-            }
-            Column::U8(n, u, d, v) => {
-                let ds = g
-                    .new_dataset::<u8>()
-                    .shape([v.len()])
-                    .create(n)
-                    .map_err(&e)?;
-                if !v.is_empty() {
-                    ds.write_raw(v).map_err(&e)?;
-                }
-                (ds, u, d)
-            }
+            Column::F64(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
+            Column::U32(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
+            Column::U8(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
         };
         ds.new_attr::<rust_hdf5::VarLenUnicode>()
             .shape(())
