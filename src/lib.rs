@@ -24,6 +24,7 @@ pub mod scene;
 pub mod sim;
 pub mod state;
 pub mod summary;
+pub mod sweep;
 pub mod validate;
 
 /// 3-vector of `f64` (SI units throughout).

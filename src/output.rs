@@ -224,6 +224,7 @@ pub fn write_run(
             impacts: &out.impacts,
             shots: &out.shots,
             summary,
+            seeds: None,
         },
     )?;
     let p = dir.join("summary.json");

@@ -89,7 +89,7 @@ impl CountStats {
 }
 
 /// Fixed-width histogram starting at zero.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Histogram {
     /// Quantity and unit.
     pub quantity: String,

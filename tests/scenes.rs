@@ -1,4 +1,5 @@
-//! Scene files: every tests/scenes/good/*.toml and examples/*.toml loads; every case of
+//! Scene files: every tests/scenes/good/*.toml and examples/*.toml loads (sweep files:
+//! every case); every case of
 //! tests/scenes/bad/*.toml (cases separated by `+++` lines, the expected message part on
 //! a `#^` line) makes `peenflow run` exit with code 2 and one line naming the problem,
 //! without a panic and without creating the output directory.
@@ -14,7 +15,15 @@ fn good_scenes_and_examples_load() {
     for dir in ["tests/scenes/good", "examples"] {
         for entry in fs::read_dir(root().join(dir)).unwrap() {
             let p = entry.unwrap().path();
-            if p.extension().is_some_and(|e| e == "toml") {
+            if p.to_string_lossy().ends_with("_sweep.toml") {
+                // A sweep file: every case must resolve to a valid, placeable scene.
+                let plan = peenflow::sweep::Plan::load(&p)
+                    .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                for c in &plan.cases {
+                    peenflow::feed::initial_shots(&c.scene).unwrap_or_else(|e| panic!("{e}"));
+                }
+                n += 1;
+            } else if p.extension().is_some_and(|e| e == "toml") {
                 let scene = Scene::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                 // Placement must succeed too.
                 peenflow::feed::initial_shots(&scene).unwrap_or_else(|e| panic!("{e}"));

@@ -29,8 +29,53 @@ pub enum Command {
     /// Compare with the paper's outcomes and published trends; write validation.md
     /// and figures.
     Validate(ValidateArgs),
+    /// Run a sweep over process conditions and seeds (resumable, shardable):
+    /// `DIR/<case>/impacts.h5` per case and `DIR/sweep.h5` with all impacts and statistics.
+    Sweep(SweepArgs),
+    /// Combine the output directories of a sharded sweep into one sweep.h5.
+    Merge(MergeArgs),
     /// List the built-in materials.
     Materials,
+}
+
+/// `peenflow sweep`.
+#[derive(Debug, clap::Args)]
+pub struct SweepArgs {
+    /// Sweep file (TOML): base scene, `[vary]` parameters, seeds (see docs/cluster.md).
+    pub sweep: PathBuf,
+    /// Output directory. Run again with the same directory to resume.
+    #[arg(short, long, default_value = "sweep-out")]
+    pub out: PathBuf,
+    /// Run only shard K of N (1-based): every N-th case starting at the K-th. Combine the
+    /// shards with `peenflow merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Use a directory that holds other files or another sweep (changed cases re-run).
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(short = 'j', long)]
+    pub threads: Option<usize>,
+    /// Print the cases and exit without running.
+    #[arg(long)]
+    pub list: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// `peenflow merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Output directories of the shards (`peenflow sweep --shard K/N --out DIR`).
+    #[arg(required = true, num_args = 1..)]
+    pub dirs: Vec<PathBuf>,
+    /// Where to gather the cases and write sweep.h5 (default: the first directory).
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// Use an --out directory that holds other files.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `peenflow run`.

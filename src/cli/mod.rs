@@ -9,7 +9,9 @@ use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
 use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
-pub use args::{AccuracyArgs, Cli, Command, ExportArgs, InitArgs, RunArgs, ValidateArgs};
+pub use args::{
+    AccuracyArgs, Cli, Command, ExportArgs, InitArgs, MergeArgs, RunArgs, SweepArgs, ValidateArgs,
+};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Instant;
@@ -22,6 +24,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Export(a) => export(a),
         Command::Accuracy(a) => accuracy(a),
         Command::Validate(a) => validate(a),
+        Command::Sweep(a) => sweep(a),
+        Command::Merge(a) => merge(a),
         Command::Materials => {
             println!(
                 "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
@@ -96,18 +100,11 @@ fn run_scene(a: RunArgs) -> Result<()> {
         sim.record_snapshots(ms * 1e-3);
     }
     output::prepare_dir(&a.out, a.force)?;
-    let bar = if a.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-        b.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% (eta {eta})",
-            )
-            .expect("BUG: progress template"),
-        );
-        b
-    };
+    let bar = progress_bar(
+        a.quiet,
+        1000,
+        "{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% (eta {eta})",
+    );
     let started = Instant::now();
     let out = sim.run(&|f| bar.set_position((f * 1000.0) as u64));
     bar.finish_and_clear();
@@ -169,6 +166,16 @@ fn run_scene(a: RunArgs) -> Result<()> {
         std::process::exit(1);
     }
     Ok(())
+}
+
+/// A progress bar on stderr, hidden when `quiet` or when stderr is not a terminal.
+fn progress_bar(quiet: bool, len: u64, template: &str) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    b.set_style(ProgressStyle::with_template(template).expect("BUG: progress template"));
+    b
 }
 
 fn parse_formats(names: &[String]) -> Result<Vec<export::Format>> {
@@ -344,5 +351,121 @@ fn validate(a: ValidateArgs) -> Result<()> {
     output::write_atomic(&a.out.join("validation.md"), md.as_bytes())?;
     print!("{md}");
     println!("wrote {}/validation.md and figures/", a.out.display());
+    Ok(())
+}
+
+/// Parses `--shard K/N` (1-based).
+pub fn parse_shard(s: &str) -> Result<(usize, usize)> {
+    let (k, n) = s
+        .split_once('/')
+        .and_then(|(k, n)| {
+            Some((
+                k.trim().parse::<usize>().ok()?,
+                n.trim().parse::<usize>().ok()?,
+            ))
+        })
+        .with_context(|| format!("--shard {s}: expected K/N with whole numbers, e.g. 2/8"))?;
+    if n == 0 {
+        bail!("--shard {s}: N = 0; allowed N >= 1");
+    }
+    if k == 0 || k > n {
+        bail!("--shard {s}: K = {k} is outside 1..={n} (shards are numbered from 1 to N)");
+    }
+    Ok((k, n))
+}
+
+fn sweep(a: SweepArgs) -> Result<()> {
+    let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    let plan = crate::sweep::Plan::load(&a.sweep)?;
+    if a.list {
+        println!(
+            "{}: {} case(s) x {} seed(s) ({}), parameters: {}",
+            plan.title,
+            plan.cases.len(),
+            plan.seeds.len(),
+            plan.combine.name(),
+            plan.parameters.join(", ")
+        );
+        let cases: Vec<&crate::sweep::Case> = match shard {
+            Some((k, n)) => plan.shard(k, n),
+            None => plan.cases.iter().collect(),
+        };
+        for c in cases {
+            let values: Vec<String> = plan
+                .parameters
+                .iter()
+                .zip(&c.values)
+                .map(|(p, v)| format!("{p} = {}", crate::sweep::plan::show(v)))
+                .collect();
+            println!("{:>4}  {}  {}", c.index, c.name, values.join(", "));
+        }
+        return Ok(());
+    }
+    set_threads(a.threads)?;
+    let bar = progress_bar(
+        a.quiet,
+        1,
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} cases (eta {eta}) {msg}",
+    );
+    let opts = crate::sweep::Options {
+        out: a.out.clone(),
+        shard,
+        force: a.force,
+    };
+    let started = Instant::now();
+    let report = crate::sweep::run::run(&plan, &opts, &|done, total, name| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(name.to_string());
+    })?;
+    bar.finish_and_clear();
+    if !a.quiet {
+        let which = match shard {
+            Some((k, n)) => format!("shard {k}/{n}: "),
+            None => String::new(),
+        };
+        println!(
+            "{which}ran {} case(s), skipped {} finished, in {:.1} s",
+            report.ran.len(),
+            report.skipped.len(),
+            started.elapsed().as_secs_f64()
+        );
+        if !report.replaced.is_empty() {
+            println!(
+                "re-ran {} case(s) whose scene or seeds changed: {}",
+                report.replaced.len(),
+                report.replaced.join(", ")
+            );
+        }
+        if report.assembled {
+            println!(
+                "wrote {0}/sweep.h5, {0}/cases.csv, {0}/figures/ and one directory per case",
+                a.out.display()
+            );
+        } else {
+            println!(
+                "when every shard is done: peenflow merge {} [other shard directories]",
+                a.out.display()
+            );
+        }
+    }
+    if report.events > 0 {
+        eprintln!(
+            "peenflow: warning: {} shot(s) had to be stopped; see the cases' case.json and impacts.h5",
+            report.events
+        );
+        std::process::exit(1);
+    }
+    Ok(())
+}
+
+fn merge(a: MergeArgs) -> Result<()> {
+    let r = crate::sweep::merge::merge(&a.dirs, a.out.as_deref(), a.force)?;
+    println!(
+        "merged {} case(s) ({} copied in) into {}/sweep.h5",
+        r.cases,
+        r.copied,
+        r.out.display()
+    );
     Ok(())
 }

@@ -47,13 +47,14 @@ pub enum H5Error {
 }
 
 /// One column: name, units, description, values.
-enum Column {
+pub(crate) enum Column {
     F64(&'static str, &'static str, &'static str, Vec<f64>),
+    U64(&'static str, &'static str, &'static str, Vec<u64>),
     U32(&'static str, &'static str, &'static str, Vec<u32>),
     U8(&'static str, &'static str, &'static str, Vec<u8>),
 }
 
-fn impact_columns(v: &[Impact]) -> Vec<Column> {
+pub(crate) fn impact_columns(v: &[Impact]) -> Vec<Column> {
     use Column::*;
     let f = |g: fn(&Impact) -> f64| v.iter().map(g).collect::<Vec<f64>>();
     vec![
@@ -209,7 +210,7 @@ fn shot_columns(v: &[&ShotState]) -> Vec<Column> {
     ]
 }
 
-fn werr(path: &Path) -> impl Fn(rust_hdf5::Hdf5Error) -> H5Error + '_ {
+pub(crate) fn werr(path: &Path) -> impl Fn(rust_hdf5::Hdf5Error) -> H5Error + '_ {
     move |e| H5Error::Write {
         path: path.display().to_string(),
         message: e.to_string(),
@@ -234,11 +235,12 @@ fn dataset<T: rust_hdf5::types::H5Type + Copy>(
     Ok(ds)
 }
 
-fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result<(), H5Error> {
+pub(crate) fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result<(), H5Error> {
     let e = werr(path);
     for c in cols {
         let (ds, units, desc) = match c {
             Column::F64(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
+            Column::U64(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
             Column::U32(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
             Column::U8(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
         };
@@ -256,7 +258,7 @@ fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result<(), H5Erro
     Ok(())
 }
 
-fn write_histogram(
+pub(crate) fn write_histogram(
     g: &H5Group,
     name: &str,
     h: &Histogram,
@@ -315,12 +317,24 @@ pub struct ImpactFileData<'a> {
     pub shots: &'a [ShotState],
     /// Run summary.
     pub summary: &'a Summary,
+    /// Seed of each impact and of each shot, when the file pools several runs (a sweep
+    /// case); written as `impacts/seed` and `shots/seed`.
+    pub seeds: Option<(&'a [u64], &'a [u64])>,
 }
 
 /// Writes impacts.h5 atomically.
 pub fn write(path: &Path, d: &ImpactFileData<'_>) -> Result<(), H5Error> {
+    write_atomic(path, |tmp| write_inner(tmp, path, d))
+}
+
+/// Runs `write` on a temporary file next to `path` and renames it to `path` when it
+/// succeeds (removes it when it fails): readers never see a half-written file.
+pub(crate) fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), H5Error>,
+) -> Result<(), H5Error> {
     let tmp = temp_path(path);
-    let result = write_inner(&tmp, path, d);
+    let result = write(&tmp);
     match result {
         Ok(()) => std::fs::rename(&tmp, path).map_err(|e| H5Error::Write {
             path: path.display().to_string(),
@@ -350,14 +364,36 @@ fn write_inner(tmp: &Path, shown: &Path, d: &ImpactFileData<'_>) -> Result<(), H
     let json = serde_json::to_string(d.summary).expect("BUG: summary serialises");
     file.set_attr_string("summary_json", &json).map_err(&e)?;
     let root = file.root_group();
+    let seed_col = |v: Vec<u64>| {
+        Column::U64(
+            "seed",
+            "1",
+            "seed of the run the row comes from (files pooling several seeds)",
+            v,
+        )
+    };
     let g = root.create_group("impacts").map_err(&e)?;
-    write_columns(&g, &impact_columns(d.impacts), shown)?;
+    let mut cols = impact_columns(d.impacts);
+    if let Some((per_impact, _)) = d.seeds {
+        cols.push(seed_col(per_impact.to_vec()));
+    }
+    write_columns(&g, &cols, shown)?;
     let all: Vec<&ShotState> = d.shots.iter().collect();
     let g = root.create_group("shots").map_err(&e)?;
-    write_columns(&g, &shot_columns(&all), shown)?;
-    let never: Vec<&ShotState> = d.shots.iter().filter(|s| s.hits == 0).collect();
+    let mut cols = shot_columns(&all);
+    if let Some((_, per_shot)) = d.seeds {
+        cols.push(seed_col(per_shot.to_vec()));
+    }
+    write_columns(&g, &cols, shown)?;
+    let never: Vec<usize> = (0..d.shots.len())
+        .filter(|&k| d.shots[k].hits == 0)
+        .collect();
     let g = root.create_group("never_hit").map_err(&e)?;
-    write_columns(&g, &shot_columns(&never), shown)?;
+    let mut cols = shot_columns(&never.iter().map(|&k| &d.shots[k]).collect::<Vec<_>>());
+    if let Some((_, per_shot)) = d.seeds {
+        cols.push(seed_col(never.iter().map(|&k| per_shot[k]).collect()));
+    }
+    write_columns(&g, &cols, shown)?;
     let g = root.create_group("summary").map_err(&e)?;
     g.set_attr_numeric("hit_fraction", &d.summary.hit_fraction)
         .map_err(&e)?;
@@ -394,6 +430,9 @@ pub struct ImpactFile {
     pub tool_version: String,
     /// Impact records.
     pub impacts: Vec<Impact>,
+    /// Seed of each impact: the file's seed, or the `impacts/seed` column of a file
+    /// pooling several seeds (a sweep case).
+    pub seeds: Vec<u64>,
 }
 
 /// Reads an impact file written by [`write()`].
@@ -484,7 +523,24 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
         })
         .map_err(|e| err(format!("dataset impacts/first_hit: {e}")))?;
     let collisions = u32s("collisions_before")?;
-    if cols.iter().any(|c| c.len() != n) || first_hit.len() != n || collisions.len() != n {
+    let seeds: Vec<u64> = if file.dataset("impacts/seed").is_ok() {
+        file.dataset("impacts/seed")
+            .and_then(|d| {
+                if d.total_elements() == 0 {
+                    Ok(vec![])
+                } else {
+                    d.read_raw::<u64>()
+                }
+            })
+            .map_err(|e| err(format!("dataset impacts/seed: {e}")))?
+    } else {
+        vec![seed; n]
+    };
+    if cols.iter().any(|c| c.len() != n)
+        || first_hit.len() != n
+        || collisions.len() != n
+        || seeds.len() != n
+    {
         return Err(err(
             "impact columns have different lengths (corrupt file)".into()
         ));
@@ -518,5 +574,6 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
         seed,
         tool_version,
         impacts,
+        seeds,
     })
 }
