@@ -35,6 +35,8 @@ pub struct WorkCounters {
     pub region_crossings: u64,
     /// Contact onsets located (all kinds).
     pub contact_onsets: u64,
+    /// Tangential (friction) force evaluations.
+    pub friction_calls: u64,
 }
 
 impl WorkCounters {
@@ -54,5 +56,6 @@ impl WorkCounters {
         self.neighbour_searches += other.neighbour_searches;
         self.region_crossings += other.region_crossings;
         self.contact_onsets += other.contact_onsets;
+        self.friction_calls += other.friction_calls;
     }
 }

@@ -134,7 +134,7 @@ pub fn impacts_csv(impacts: &[Impact], path: &Path) -> Result<Vec<u8>, OutputErr
 }
 
 /// Header of impacts.csv.
-pub const IMPACT_HEADER: &str = "shot,time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,normal_speed_m_s,angle_deg,diameter_m,first_hit,tangential_speed_m_s,center_x_m,center_y_m,center_z_m,mass_kg,kinetic_energy_j,collisions_before\n";
+pub const IMPACT_HEADER: &str = "shot,time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,normal_speed_m_s,angle_deg,diameter_m,first_hit,tangential_speed_m_s,center_x_m,center_y_m,center_z_m,mass_kg,kinetic_energy_j,collisions_before,omega_x_rad_s,omega_y_rad_s,omega_z_rad_s\n";
 
 /// One row of shots.csv: a shot's final state and history.
 #[derive(Debug, Serialize)]

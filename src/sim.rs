@@ -15,7 +15,7 @@
 
 use crate::Vec3;
 use crate::contact::broad::CellList;
-use crate::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact, WallContact};
+use crate::contact::{ContactSet, Friction, HertzLaw, PairContact, SpecimenContact, WallContact};
 use crate::counters::WorkCounters;
 use crate::export::vtk::SnapshotPoint;
 use crate::flow::JetField;
@@ -88,6 +88,11 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         pair: effects.shot_shot_contact.then(|| PairContact {
             law: law(shot, scene.restitution.shot_shot),
         }),
+        friction: effects.friction.then_some(Friction {
+            specimen: scene.friction.shot_specimen,
+            shot: scene.friction.shot_shot,
+            wall: scene.friction.shot_nozzle,
+        }),
     };
     Physics {
         forces,
@@ -111,9 +116,9 @@ struct SnapshotTap {
 }
 
 impl SnapshotTap {
-    fn new(interval: f64, t0: f64, members: &[ShotState]) -> Self {
+    fn new(interval: f64, t0: f64, members: &[ShotState], spin: bool) -> Self {
         let mut y_prev = Vec::with_capacity(6 * members.len());
-        island::load_state(members, &mut y_prev);
+        island::load_state(members, &mut y_prev, spin);
         SnapshotTap {
             interval,
             t_prev: t0,
@@ -186,7 +191,7 @@ fn advance_island(
             Vec::new()
         }
         Some(dt) => {
-            let mut tap = SnapshotTap::new(dt, t0, members);
+            let mut tap = SnapshotTap::new(dt, t0, members, phys.contacts.friction.is_some());
             island::advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut |t, y| {
                 tap.on_step(t, y)
             });

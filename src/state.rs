@@ -51,6 +51,8 @@ pub struct ShotState {
     pub pos: Vec3,
     /// Velocity, m/s.
     pub vel: Vec3,
+    /// Angular velocity, rad/s (integrated only with the `friction` effect).
+    pub omega: Vec3,
     /// Radius and mass.
     pub body: ShotBody,
     /// Time the shot enters the run, s (0 for batch feeds).
@@ -96,6 +98,7 @@ impl ShotState {
             id,
             pos,
             vel,
+            omega: Vec3::zeros(),
             body,
             t_start,
             status: ShotStatus::Active,

@@ -130,7 +130,7 @@ fn user_template_renders_with_the_model() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = fs::read_to_string(t.join("out/abaqus.inp")).unwrap();
     assert!(
-        text.starts_with("1 shot(s), ") && text.contains("v_z = -60.13"),
+        text.starts_with("1 shot(s), ") && text.contains("v_z = -60.14"),
         "{text}"
     );
 }

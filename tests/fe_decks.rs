@@ -259,6 +259,7 @@ fn fixture_impacts() -> Vec<Impact> {
             t,
             &peenflow::Vec3::new(x, y, 0.4e-3),
             &peenflow::Vec3::new(v[0], v[1], v[2]),
+            &peenflow::Vec3::zeros(),
             0.4e-3,
             7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
             0,

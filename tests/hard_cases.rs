@@ -38,6 +38,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
             specimen: specimen.map(|law| SpecimenContact { law }),
             wall: None,
             pair: pair.map(|law| PairContact { law }),
+            friction: None,
         },
         tolerance: 1e-6,
         contact_steps: 50.0,

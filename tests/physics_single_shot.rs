@@ -140,7 +140,10 @@ fn lone_shot_impact_speed_matches_independent_rk4_within_0_1_percent() {
         first.normal_speed_m_s, w_ref, err, first.time_s, t_ref
     );
     assert!(err < 1e-3, "impact speed error {err:.3e} >= 0.1 %");
-    assert!(rel(first.time_s, t_ref) < 1e-3);
+    // Measured 8.5e-9 at the default tolerance 1e-6 (the specimen onset is located and
+    // the contact force starts at the end of the locating step): allow 1e-6.
+    assert!(err < 1e-6, "impact speed error {err:.3e} above 1e-6");
+    assert!(rel(first.time_s, t_ref) < 1e-6);
     // model-notes: with rho* an on-axis 0.8 mm shot at 0.6 MPa lands at about 60 m/s.
     assert!((55.0..65.0).contains(&first.normal_speed_m_s));
 }

@@ -74,6 +74,7 @@ proptest! {
                 specimen: enc.with_specimen.then(|| SpecimenContact { law: law(enc.e_wall) }),
                 wall: None,
                 pair: Some(PairContact { law: law(enc.e_pair) }),
+                friction: None,
             },
             tolerance: 1e-6,
             contact_steps: 50.0,

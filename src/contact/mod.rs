@@ -2,17 +2,20 @@
 //!
 //! * [`SpecimenContact`]: shot on the flat specimen (plane `z = 0`, normal `+z`);
 //! * [`WallContact`]: shot inside the cylindrical nozzle bore;
-//! * [`PairContact`]: shot on shot, candidates from the [`broad`] cell list.
+//! * [`PairContact`]: shot on shot, candidates from the [`broad`] cell list;
+//! * [`Friction`]: Coulomb friction at the contact points of all three (spins shots).
 //!
 //! Laws only evaluate forces at the state they are given; the integrator decides how
 //! time is stepped and locates contact onsets (see `integrate::island`).
 
 pub mod broad;
+pub mod friction;
 pub mod hertz;
 pub mod pair;
 pub mod specimen;
 pub mod wall;
 
+pub use friction::Friction;
 pub use hertz::HertzLaw;
 pub use pair::PairContact;
 pub use specimen::SpecimenContact;
@@ -27,6 +30,9 @@ pub struct ContactSet {
     pub wall: Option<WallContact>,
     /// Shot-shot contact.
     pub pair: Option<PairContact>,
+    /// Coulomb friction in the enabled contacts (and shot spin). `None`: frictionless
+    /// contacts and no angular velocity in the integrated state.
+    pub friction: Option<Friction>,
 }
 
 /// Effective mass `m_1 m_2 / (m_1 + m_2)`, kg.

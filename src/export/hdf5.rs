@@ -148,6 +148,24 @@ pub(crate) fn impact_columns(v: &[Impact]) -> Vec<Column> {
             "shot-shot collisions before this impact",
             v.iter().map(|i| i.collisions_before).collect(),
         ),
+        F64(
+            "omega_x_rad_s",
+            "rad/s",
+            "angular velocity x at first contact (0 without the friction effect)",
+            f(|i| i.omega_x_rad_s),
+        ),
+        F64(
+            "omega_y_rad_s",
+            "rad/s",
+            "angular velocity y at first contact",
+            f(|i| i.omega_y_rad_s),
+        ),
+        F64(
+            "omega_z_rad_s",
+            "rad/s",
+            "angular velocity z at first contact",
+            f(|i| i.omega_z_rad_s),
+        ),
     ]
 }
 
@@ -523,6 +541,17 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
         })
         .map_err(|e| err(format!("dataset impacts/first_hit: {e}")))?;
     let collisions = u32s("collisions_before")?;
+    // Files written before spin was recorded have no omega columns: zero spin.
+    let spin: Vec<Vec<f64>> = ["omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s"]
+        .iter()
+        .map(|c| {
+            if file.dataset(&format!("impacts/{c}")).is_ok() {
+                f64s(c)
+            } else {
+                Ok(vec![0.0; n])
+            }
+        })
+        .collect::<Result<_, _>>()?;
     let seeds: Vec<u64> = if file.dataset("impacts/seed").is_ok() {
         file.dataset("impacts/seed")
             .and_then(|d| {
@@ -540,6 +569,7 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
         || first_hit.len() != n
         || collisions.len() != n
         || seeds.len() != n
+        || spin.iter().any(|c| c.len() != n)
     {
         return Err(err(
             "impact columns have different lengths (corrupt file)".into()
@@ -567,6 +597,9 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
             mass_kg: cols[15][k],
             kinetic_energy_j: cols[16][k],
             collisions_before: collisions[k],
+            omega_x_rad_s: spin[0][k],
+            omega_y_rad_s: spin[1][k],
+            omega_z_rad_s: spin[2][k],
         })
         .collect();
     Ok(ImpactFile {

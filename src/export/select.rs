@@ -104,6 +104,7 @@ mod tests {
                     k as f64 * 1e-4,
                     &Vec3::new(x, -x, 4e-4),
                     &Vec3::new(0.0, 0.0, -60.0),
+                    &Vec3::zeros(),
                     4e-4,
                     2e-6,
                     0,

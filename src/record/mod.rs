@@ -51,10 +51,17 @@ pub struct Impact {
     pub kinetic_energy_j: f64,
     /// Shot-shot collisions the shot had before this impact.
     pub collisions_before: u32,
+    /// Angular velocity x at first contact, rad/s (0 unless the `friction` effect is on).
+    pub omega_x_rad_s: f64,
+    /// Angular velocity y, rad/s.
+    pub omega_y_rad_s: f64,
+    /// Angular velocity z, rad/s.
+    pub omega_z_rad_s: f64,
 }
 
 impl Impact {
-    /// Builds the record for a shot of `radius`, `mass` at `pos`, `vel` touching the
+    /// Builds the record for a shot of `radius`, `mass` at `pos`, `vel` (spinning at
+    /// `omega`) touching the
     /// specimen plane (normal `+z`) at time `t`.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -62,6 +69,7 @@ impl Impact {
         t: f64,
         pos: &Vec3,
         vel: &Vec3,
+        omega: &Vec3,
         radius: f64,
         mass: f64,
         collisions_before: u32,
@@ -91,6 +99,9 @@ impl Impact {
             mass_kg: mass,
             kinetic_energy_j: 0.5 * mass * speed * speed,
             collisions_before,
+            omega_x_rad_s: omega.x,
+            omega_y_rad_s: omega.y,
+            omega_z_rad_s: omega.z,
         }
     }
 

@@ -18,27 +18,28 @@ pub enum Switch {
     Auto,
 }
 
-/// The six effects, in report order.
-pub const EFFECT_NAMES: [&str; 6] = [
+/// The effects, in report order.
+pub const EFFECT_NAMES: [&str; 7] = [
     "drag",
     "lateral_force",
     "gravity",
     "specimen_contact",
     "shot_shot_contact",
     "nozzle_wall_contact",
+    "friction",
 ];
 
 /// The settings as written (all `Auto` when `[effects]` is absent).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EffectRequest {
     /// Per effect, in [`EFFECT_NAMES`] order.
-    pub switches: [Switch; 6],
+    pub switches: [Switch; 7],
 }
 
 impl EffectRequest {
     /// Parses the `effects` value of a scene file.
     pub fn from_value(v: Option<&toml::Value>, path: &str) -> Result<Self, SceneError> {
-        let mut switches = [Switch::Auto; 6];
+        let mut switches = [Switch::Auto; 7];
         let bad = |key: &str, message: String| SceneError::Invalid {
             path: path.to_string(),
             key: key.to_string(),
@@ -117,6 +118,8 @@ pub struct Effects {
     pub shot_shot_contact: bool,
     /// Shot-nozzle-wall contact.
     pub nozzle_wall_contact: bool,
+    /// Coulomb friction in the contacts, with shot spin.
+    pub friction: bool,
     /// Every decision with its reason, in [`EFFECT_NAMES`] order.
     pub decisions: Vec<EffectDecision>,
 }
@@ -136,7 +139,9 @@ impl Scene {
                     && r < 0.5 * self.nozzle.bore
             }),
         };
-        let auto: [(bool, String); 6] = [
+        let fr = &self.friction;
+        let any_friction = fr.shot_specimen > 0.0 || fr.shot_shot > 0.0 || fr.shot_nozzle > 0.0;
+        let auto: [(bool, String); 7] = [
             (true, "auto: shots fly through the air jet".into()),
             (
                 self.jet.lift_coefficient > 0.0 && self.jet.divergence_tan > 0.0,
@@ -171,6 +176,14 @@ impl Scene {
                     "auto: no shot starts inside the bore".into()
                 },
             ),
+            (
+                any_friction,
+                if any_friction {
+                    "auto: a [friction] coefficient is above zero".into()
+                } else {
+                    "auto: every [friction] coefficient is zero (frictionless, as the paper)".into()
+                },
+            ),
         ];
         let mut decisions = Vec::new();
         for (i, name) in EFFECT_NAMES.iter().enumerate() {
@@ -188,6 +201,7 @@ impl Scene {
             specimen_contact: decisions[3].on,
             shot_shot_contact: decisions[4].on,
             nozzle_wall_contact: decisions[5].on,
+            friction: decisions[6].on,
             decisions,
         }
     }

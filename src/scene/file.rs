@@ -30,6 +30,8 @@ pub struct SceneFile {
     pub specimen: SpecimenFile,
     /// Restitution coefficients per pair.
     pub restitution: RestitutionFile,
+    /// Coulomb friction coefficients per pair (the `friction` effect).
+    pub friction: FrictionFile,
     /// Integrator accuracy settings.
     pub integrator: IntegratorFile,
     /// Effects: `"auto"` or a table of `name = true | false | "auto"`.
@@ -53,6 +55,7 @@ impl Default for SceneFile {
             shots: ShotsFile::default(),
             specimen: SpecimenFile::default(),
             restitution: RestitutionFile::default(),
+            friction: FrictionFile::default(),
             integrator: IntegratorFile::default(),
             effects: None,
             materials: BTreeMap::new(),
@@ -369,6 +372,19 @@ impl Default for RestitutionFile {
             shot_nozzle: 0.7,
         }
     }
+}
+
+/// `[friction]`: Coulomb coefficients. All zero (the paper: frictionless contacts)
+/// unless set; any coefficient above zero turns the `friction` effect on under "auto".
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrictionFile {
+    /// Shot on specimen.
+    pub shot_specimen: f64,
+    /// Shot on shot.
+    pub shot_shot: f64,
+    /// Shot on the nozzle bore wall.
+    pub shot_nozzle: f64,
 }
 
 /// `[integrator]`.

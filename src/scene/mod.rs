@@ -298,6 +298,17 @@ pub struct Restitution {
     pub shot_nozzle: f64,
 }
 
+/// Coulomb friction coefficients (the `friction` effect).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrictionCoefficients {
+    /// Shot on specimen.
+    pub shot_specimen: f64,
+    /// Shot on shot.
+    pub shot_shot: f64,
+    /// Shot on nozzle wall.
+    pub shot_nozzle: f64,
+}
+
 /// Integrator settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IntegratorSettings {
@@ -346,6 +357,8 @@ pub struct Scene {
     pub feed: Feed,
     /// Restitution coefficients.
     pub restitution: Restitution,
+    /// Friction coefficients.
+    pub friction: FrictionCoefficients,
     /// Integrator settings.
     pub integrator: IntegratorSettings,
     /// Requested effects.

@@ -754,6 +754,30 @@ impl SceneFile {
                 "",
             )?,
         };
+        let fr = &f.friction;
+        let friction = FrictionCoefficients {
+            shot_specimen: c.range(
+                "friction.shot_specimen",
+                fr.shot_specimen,
+                B::In(0.0),
+                B::In(2.0),
+                "",
+            )?,
+            shot_shot: c.range(
+                "friction.shot_shot",
+                fr.shot_shot,
+                B::In(0.0),
+                B::In(2.0),
+                "",
+            )?,
+            shot_nozzle: c.range(
+                "friction.shot_nozzle",
+                fr.shot_nozzle,
+                B::In(0.0),
+                B::In(2.0),
+                "",
+            )?,
+        };
         let it = &f.integrator;
         let method = match (it.method.as_str(), it.fixed_step_ns) {
             ("adaptive", None) => crate::integrate::island::Method::Adaptive,
@@ -805,6 +829,18 @@ impl SceneFile {
         };
         let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
         let effects = EffectRequest::from_value(f.effects.as_ref(), path)?;
+        let friction_asked = effects.switches[6] == super::effects::Switch::On
+            || (effects.switches[6] == super::effects::Switch::Auto
+                && (friction.shot_specimen > 0.0
+                    || friction.shot_shot > 0.0
+                    || friction.shot_nozzle > 0.0));
+        if friction_asked && matches!(method, crate::integrate::island::Method::Verlet { .. }) {
+            return Err(c.invalid(
+                "integrator.method",
+                "the velocity-Verlet baseline integrates no shot spin: use method = \"adaptive\" \
+                 with friction, or set effects.friction = false",
+            ));
+        }
         let dm = &f.domain;
         let domain = Domain {
             radius: c.range(
@@ -840,6 +876,7 @@ impl SceneFile {
             nozzle_material,
             feed,
             restitution,
+            friction,
             integrator,
             effects,
             domain,

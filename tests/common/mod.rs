@@ -53,6 +53,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
             specimen: specimen_e.map(|e| SpecimenContact { law: law(e) }),
             wall: None,
             pair: pair_e.map(|e| PairContact { law: law(e) }),
+            friction: None,
         },
         tolerance: 1e-6,
         contact_steps: 50.0,
