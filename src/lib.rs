@@ -11,6 +11,7 @@ pub mod accuracy;
 pub mod cli;
 pub mod contact;
 pub mod counters;
+pub mod coverage;
 pub mod export;
 pub mod feed;
 pub mod flow;

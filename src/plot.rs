@@ -298,3 +298,130 @@ pub fn bars(
         }
     })
 }
+
+/// A scalar field on a regular grid, for [`heatmap`].
+#[derive(Debug, Clone)]
+pub struct Field<'a> {
+    /// `[x0, x1, y0, y1]` in plot units.
+    pub extent: [f64; 4],
+    /// Cells along x.
+    pub nx: usize,
+    /// Cells along y.
+    pub ny: usize,
+    /// Row-major values (`ny` rows of `nx`), row 0 at `y0`.
+    pub values: &'a [f64],
+    /// Colour-bar label.
+    pub label: &'a str,
+}
+
+/// Most cells drawn per axis: finer grids are averaged into blocks (SVG size).
+const HEATMAP_CELLS: usize = 200;
+
+/// Writes `stem.png` and `stem.svg`: the field in viridis colours, zero in white, with a
+/// colour bar. Grids finer than 200 cells per axis are drawn as block averages.
+pub fn heatmap(
+    stem: &Path,
+    title: &str,
+    labels: (&str, &str),
+    field: &Field<'_>,
+) -> Result<(), PlotError> {
+    both(stem, &|p, png| {
+        if png {
+            draw_heatmap(
+                BitMapBackend::new(p, (820, 700)).into_drawing_area(),
+                title,
+                labels,
+                field,
+            )
+        } else {
+            draw_heatmap(
+                SVGBackend::new(p, (820, 700)).into_drawing_area(),
+                title,
+                labels,
+                field,
+            )
+        }
+    })
+}
+
+fn draw_heatmap<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    (xl, yl): (&str, &str),
+    f: &Field<'_>,
+) -> DResult
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    root.fill(&WHITE)?;
+    // Block-average to at most HEATMAP_CELLS per axis.
+    let (bx, by) = (f.nx.div_ceil(HEATMAP_CELLS), f.ny.div_ceil(HEATMAP_CELLS));
+    let (mx, my) = (f.nx.div_ceil(bx), f.ny.div_ceil(by));
+    let mut blocks = vec![0.0; mx * my];
+    let mut counts = vec![0usize; mx * my];
+    for j in 0..f.ny {
+        for i in 0..f.nx {
+            let k = (j / by) * mx + i / bx;
+            blocks[k] += f.values[j * f.nx + i];
+            counts[k] += 1;
+        }
+    }
+    for (b, c) in blocks.iter_mut().zip(&counts) {
+        *b /= (*c).max(1) as f64;
+    }
+    let vmax = blocks.iter().cloned().fold(0.0, f64::max).max(1e-300);
+    let (main, bar) = root.split_horizontally(700);
+    let [x0, x1, y0, y1] = f.extent;
+    let mut c = ChartBuilder::on(&main)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    c.configure_mesh()
+        .disable_mesh()
+        .x_desc(xl)
+        .y_desc(yl)
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    let (dx, dy) = ((x1 - x0) / mx as f64, (y1 - y0) / my as f64);
+    c.draw_series((0..my).flat_map(|j| {
+        let blocks = &blocks;
+        (0..mx).map(move |i| {
+            let v = blocks[j * mx + i];
+            let color = if v <= 0.0 {
+                WHITE
+            } else {
+                ViridisRGB.get_color((v / vmax) as f32)
+            };
+            let (ax, ay) = (x0 + i as f64 * dx, y0 + j as f64 * dy);
+            Rectangle::new([(ax, ay), (ax + dx, ay + dy)], color.filled())
+        })
+    }))?;
+    // Colour bar.
+    let mut cb = ChartBuilder::on(&bar)
+        .margin_top(50)
+        .margin_bottom(56)
+        .margin_right(8)
+        .y_label_area_size(52)
+        .caption(f.label, ("sans-serif", 13))
+        .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_label_formatter(&|v| short(*v))
+        .label_style(("sans-serif", 12))
+        .draw()?;
+    let steps = 100;
+    cb.draw_series((0..steps).map(|k| {
+        let (a, b) = (
+            vmax * k as f64 / steps as f64,
+            vmax * (k + 1) as f64 / steps as f64,
+        );
+        let color = ViridisRGB.get_color(((k as f64 + 0.5) / steps as f64) as f32);
+        Rectangle::new([(0.0, a), (1.0, b)], color.filled())
+    }))?;
+    root.present()?;
+    Ok(())
+}

@@ -34,8 +34,38 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Combine the output directories of a sharded sweep into one sweep.h5.
     Merge(MergeArgs),
+    /// Coverage from a run's impacts: map, coverage against time, Avrami fit, time to
+    /// 98 % coverage; adds /coverage to the impact file.
+    Coverage(CoverageArgs),
     /// List the built-in materials.
     Materials,
+}
+
+/// `peenflow coverage`.
+#[derive(Debug, clap::Args)]
+pub struct CoverageArgs {
+    /// Impact file written by `peenflow run` (impacts.h5).
+    pub impacts: PathBuf,
+    /// Window on the specimen, mm: x0,y0,x1,y1 (default: a square around the median
+    /// impact point, half side the median distance of the impacts from it).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub window: Option<Vec<f64>>,
+    /// Cell size, um (default: a fifth of the median dent radius).
+    #[arg(long)]
+    pub cell_um: Option<f64>,
+    /// Target material (default: the scene's specimen). With a yield strength the dents
+    /// are plastic; without, the Hertz contact footprint.
+    #[arg(long)]
+    pub target_material: Option<String>,
+    /// Output directory (coverage.csv, coverage.json, coverage_map, coverage_curve).
+    #[arg(short, long, default_value = "coverage-out")]
+    pub out: PathBuf,
+    /// Write into a directory that already holds files.
+    #[arg(long)]
+    pub force: bool,
+    /// Leave the impact file as it is (do not add /coverage).
+    #[arg(long)]
+    pub no_h5: bool,
 }
 
 /// `peenflow sweep`.
@@ -126,15 +156,10 @@ pub struct ExportArgs {
     #[arg(long, default_value = "mm-t-s")]
     pub units: String,
     /// Window on the specimen, mm: x0,y0,x1,y1.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        num_args = 4,
-        allow_negative_numbers = true
-    )]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub window: Option<Vec<f64>>,
     /// Time window, ms: t0,t1.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub time_window: Option<Vec<f64>>,
     /// Only first hits (no rebound hits).
     #[arg(long)]

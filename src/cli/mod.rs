@@ -10,7 +10,8 @@ use crate::sim::Simulation;
 use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
 pub use args::{
-    AccuracyArgs, Cli, Command, ExportArgs, InitArgs, MergeArgs, RunArgs, SweepArgs, ValidateArgs,
+    AccuracyArgs, Cli, Command, CoverageArgs, ExportArgs, InitArgs, MergeArgs, RunArgs, SweepArgs,
+    ValidateArgs,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -26,6 +27,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Validate(a) => validate(a),
         Command::Sweep(a) => sweep(a),
         Command::Merge(a) => merge(a),
+        Command::Coverage(a) => coverage(a),
         Command::Materials => {
             println!(
                 "{:<18} {:>8} {:>6} {:>9} {:>10}  note",
@@ -467,5 +469,92 @@ fn merge(a: MergeArgs) -> Result<()> {
         r.copied,
         r.out.display()
     );
+    Ok(())
+}
+
+fn coverage(a: CoverageArgs) -> Result<()> {
+    let window = match &a.window {
+        Some(w)
+            if w.len() == 4 && w.iter().all(|v| v.is_finite()) && w[2] > w[0] && w[3] > w[1] =>
+        {
+            Some([w[0] * 1e-3, w[1] * 1e-3, w[2] * 1e-3, w[3] * 1e-3])
+        }
+        Some(w) => bail!("--window {w:?}: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0"),
+        None => None,
+    };
+    if let Some(c) = a.cell_um
+        && !(c > 0.0 && c.is_finite())
+    {
+        bail!("--cell-um {c}: allowed > 0");
+    }
+    let target = match &a.target_material {
+        Some(name) => Some(material::builtin(name).with_context(|| {
+            format!(
+                "--target-material {name}: unknown material; known: {}",
+                material::LIBRARY
+                    .iter()
+                    .map(|m| m.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })?),
+        None => None,
+    };
+    if !a.impacts.is_file() {
+        bail!("{}: no such impact file", a.impacts.display());
+    }
+    output::prepare_dir(&a.out, a.force)?;
+    let r = crate::coverage::output::run(&crate::coverage::output::Request {
+        impacts: a.impacts.clone(),
+        window,
+        cell: a.cell_um.map(|c| c * 1e-6),
+        target,
+        out: a.out.clone(),
+        update_h5: !a.no_h5,
+    })?;
+    let c = &r.coverage;
+    println!("target {}: {}", r.target, r.model.describe());
+    println!(
+        "{} dents, median diameter {:.3} mm; window x {:.2}..{:.2} mm, y {:.2}..{:.2} mm, {} x {} cells of {:.1} um",
+        r.dents,
+        r.median_dent_diameter * 1e3,
+        c.window[0] * 1e3,
+        c.window[2] * 1e3,
+        c.window[1] * 1e3,
+        c.window[3] * 1e3,
+        c.nx,
+        c.ny,
+        c.cell * 1e6
+    );
+    println!(
+        "coverage {:.2} % after {:.3} ms of exposure (from the first impact, {} dents touch the window)",
+        100.0 * c.final_coverage,
+        c.exposure * 1e3,
+        c.dents_in_window
+    );
+    match c.fit {
+        Some(f) => {
+            println!(
+                "Avrami fit C = 1 - exp(-k t^n): k = {:.4e} s^-n, n = {:.3} (R^2 {:.4}, {} points)",
+                f.k, f.n, f.r_squared, f.points
+            );
+            let t98 = f.time_to(0.98);
+            println!(
+                "time to 98 % (full) coverage: {:.3} ms from the fit{}",
+                t98 * 1e3,
+                match c.t98_measured {
+                    Some(t) => format!("; reached in the run at {:.3} ms", t * 1e3),
+                    None if t98 > c.exposure => " (an extrapolation: the run ended before)".into(),
+                    None => String::new(),
+                }
+            );
+        }
+        None => println!(
+            "no Avrami fit: the curve has fewer than 3 points between 0.5 % and 99.5 % coverage (run longer, or choose a smaller --window)"
+        ),
+    }
+    for p in &r.written {
+        println!("wrote {}", p.display());
+    }
     Ok(())
 }

@@ -1,0 +1,280 @@
+//! `peenflow coverage`: reads impacts.h5, computes the coverage, prints the numbers,
+//! writes coverage.csv, coverage.json, the map and the curve (PNG + SVG), and adds a
+//! `/coverage` group to the impact file (rewritten atomically).
+
+use super::{Coverage, DentModel, compute, default_window, dents};
+use crate::export::hdf5::{self as h5, Column, H5Error, werr, write_columns};
+use crate::plot::{self, Field, PlotError, Series};
+use crate::scene::{Material, Scene};
+use std::path::{Path, PathBuf};
+
+/// Everything `peenflow coverage` was asked.
+#[derive(Debug, Clone)]
+pub struct Request {
+    /// Impact file.
+    pub impacts: PathBuf,
+    /// Window `[x0, y0, x1, y1]`, m (default: [`default_window`]).
+    pub window: Option<[f64; 4]>,
+    /// Cell size, m (default: a fifth of the median dent radius).
+    pub cell: Option<f64>,
+    /// Target material (default: the scene's specimen).
+    pub target: Option<Material>,
+    /// Output directory.
+    pub out: PathBuf,
+    /// Add `/coverage` to the impact file.
+    pub update_h5: bool,
+}
+
+/// The study's result, for printing.
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// Dent model used.
+    pub model: DentModel,
+    /// Target material name.
+    pub target: String,
+    /// Dents (impacts with a positive normal speed).
+    pub dents: usize,
+    /// Median dent diameter, m.
+    pub median_dent_diameter: f64,
+    /// The coverage.
+    pub coverage: Coverage,
+    /// Files written.
+    pub written: Vec<PathBuf>,
+}
+
+/// Errors of the coverage command.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CoverageError {
+    /// Reading or writing HDF5.
+    #[error(transparent)]
+    H5(#[from] H5Error),
+    /// The scene stored in the file.
+    #[error(transparent)]
+    Export(#[from] crate::export::ExportError),
+    /// Plots.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// Other files.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+    /// Nothing to compute.
+    #[error("{path}: {message}")]
+    Empty {
+        /// File.
+        path: String,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Runs the study.
+pub fn run(req: &Request) -> Result<Report, CoverageError> {
+    let (file, scene): (h5::ImpactFile, Scene) = crate::export::read_impact_file(&req.impacts)?;
+    let target = req
+        .target
+        .clone()
+        .unwrap_or_else(|| scene.specimen_material.clone());
+    let model = DentModel::for_pair(&scene.shot_material, &target);
+    let ds = dents(&file.impacts, &model);
+    let shown = req.impacts.display().to_string();
+    if ds.is_empty() {
+        return Err(CoverageError::Empty {
+            path: shown,
+            message: "no impact with a positive normal speed: nothing dents the specimen".into(),
+        });
+    }
+    let mut radii: Vec<f64> = ds.iter().map(|d| d.r).collect();
+    radii.sort_by(f64::total_cmp);
+    let median_r = crate::summary::percentile(&radii, 50.0);
+    let window = match req.window {
+        Some(w) => w,
+        None => default_window(&ds).expect("BUG: dents are not empty"),
+    };
+    let cell = req.cell.unwrap_or(median_r / 5.0);
+    let t_end = scene.duration;
+    let cov = compute(&ds, window, cell, t_end);
+    let mut written = Vec::new();
+    // coverage.csv
+    let mut csv = String::from("exposure_time_s,coverage,avrami_fit\n");
+    for (t, c) in &cov.curve {
+        let f = cov
+            .fit
+            .map(|f| format!("{}", f.coverage(*t)))
+            .unwrap_or_default();
+        csv.push_str(&format!("{t},{c},{f}\n"));
+    }
+    let p = req.out.join("coverage.csv");
+    crate::output::write_atomic(&p, csv.as_bytes())?;
+    written.push(p);
+    // coverage.json
+    let json = serde_json::json!({
+        "impacts": shown,
+        "target": target.name,
+        "dent_model": model.describe(),
+        "dents": ds.len(),
+        "dents_in_window": cov.dents_in_window,
+        "median_dent_diameter_m": 2.0 * median_r,
+        "window_m": cov.window,
+        "cell_m": cov.cell,
+        "cells": [cov.nx, cov.ny],
+        "first_impact_s": cov.t0,
+        "exposure_s": cov.exposure,
+        "final_coverage": cov.final_coverage,
+        "avrami": cov.fit,
+        "time_to_98_percent_fit_s": cov.fit.map(|f| f.time_to(0.98)),
+        "time_to_98_percent_measured_s": cov.t98_measured,
+    });
+    let p = req.out.join("coverage.json");
+    let mut bytes = serde_json::to_vec_pretty(&json).expect("BUG: json");
+    bytes.push(b'\n');
+    crate::output::write_atomic(&p, &bytes)?;
+    written.push(p);
+    // Map and curve.
+    let values: Vec<f64> = cov.counts.iter().map(|&c| c as f64).collect();
+    let stem = req.out.join("coverage_map");
+    plot::heatmap(
+        &stem,
+        &format!(
+            "coverage {:.1} % ({} dents, {:.2} ms exposure)",
+            100.0 * cov.final_coverage,
+            cov.dents_in_window,
+            cov.exposure * 1e3
+        ),
+        ("x, mm", "y, mm"),
+        &Field {
+            extent: [
+                window[0] * 1e3,
+                window[2] * 1e3,
+                window[1] * 1e3,
+                window[3] * 1e3,
+            ],
+            nx: cov.nx,
+            ny: cov.ny,
+            values: &values,
+            label: "dents per cell",
+        },
+    )?;
+    written.push(stem.with_extension("png"));
+    let mut series = vec![Series {
+        name: "simulated".into(),
+        points: cov
+            .curve
+            .iter()
+            .map(|(t, c)| (t * 1e3, 100.0 * c))
+            .collect(),
+    }];
+    if let Some(f) = cov.fit {
+        series.push(Series {
+            name: format!("1 - exp(-k t^n), n = {:.2}", f.n),
+            points: cov
+                .curve
+                .iter()
+                .map(|(t, _)| (t * 1e3, 100.0 * f.coverage(*t)))
+                .collect(),
+        });
+    }
+    let stem = req.out.join("coverage_curve");
+    plot::lines(
+        &stem,
+        "coverage against exposure time",
+        ("exposure time since the first impact, ms", "coverage, %"),
+        &series,
+        false,
+    )?;
+    written.push(stem.with_extension("png"));
+    if req.update_h5 {
+        add_to_h5(&req.impacts, &cov, &model, &target.name)?;
+        written.push(req.impacts.clone());
+    }
+    Ok(Report {
+        model,
+        target: target.name,
+        dents: ds.len(),
+        median_dent_diameter: 2.0 * median_r,
+        coverage: cov,
+        written,
+    })
+}
+
+/// Adds (or replaces) `/coverage` in the impact file: a copy is updated and renamed
+/// over the original, so a failure leaves the original untouched.
+fn add_to_h5(path: &Path, cov: &Coverage, model: &DentModel, target: &str) -> Result<(), H5Error> {
+    let err = |m: String| H5Error::Write {
+        path: path.display().to_string(),
+        message: m,
+    };
+    h5::write_atomic(path, |tmp| {
+        std::fs::copy(path, tmp).map_err(|e| err(e.to_string()))?;
+        let e = werr(path);
+        let file = rust_hdf5::H5File::open_rw(tmp).map_err(&e)?;
+        let existing = file.root_group().group_names().map_err(&e)?;
+        if existing
+            .iter()
+            .any(|n| n.trim_start_matches('/') == "coverage")
+        {
+            file.delete_group("coverage").map_err(&e)?;
+        }
+        let g = file.create_group("coverage").map_err(&e)?;
+        g.set_attr_string("dent_model", &model.describe())
+            .map_err(&e)?;
+        g.set_attr_string("target", target).map_err(&e)?;
+        g.set_attr_array_numeric("window_m", &cov.window)
+            .map_err(&e)?;
+        g.set_attr_numeric("cell_m", &cov.cell).map_err(&e)?;
+        g.set_attr_numeric("final_coverage", &cov.final_coverage)
+            .map_err(&e)?;
+        g.set_attr_numeric("first_impact_s", &cov.t0).map_err(&e)?;
+        if let Some(f) = cov.fit {
+            g.set_attr_numeric("avrami_k", &f.k).map_err(&e)?;
+            g.set_attr_numeric("avrami_n", &f.n).map_err(&e)?;
+            g.set_attr_numeric("time_to_98_percent_fit_s", &f.time_to(0.98))
+                .map_err(&e)?;
+        }
+        let counts = g
+            .new_dataset::<u32>()
+            .shape([cov.ny, cov.nx])
+            .create("dent_count")
+            .map_err(&e)?;
+        counts.write_raw(&cov.counts).map_err(&e)?;
+        counts
+            .new_attr::<rust_hdf5::VarLenUnicode>()
+            .shape(())
+            .create("description")
+            .and_then(|a| {
+                a.write_string("dents per cell; row j spans y0 + j cell .. y0 + (j+1) cell")
+            })
+            .map_err(&e)?;
+        let first = g
+            .new_dataset::<f64>()
+            .shape([cov.ny, cov.nx])
+            .create("first_dent_time_s")
+            .map_err(&e)?;
+        let ft: Vec<f64> = cov
+            .first_time
+            .iter()
+            .map(|t| if t.is_finite() { *t } else { f64::NAN })
+            .collect();
+        first.write_raw(&ft).map_err(&e)?;
+        write_columns(
+            &g,
+            &[
+                Column::F64(
+                    "curve_time_s",
+                    "s",
+                    "exposure time since the first impact",
+                    cov.curve.iter().map(|p| p.0).collect(),
+                ),
+                Column::F64(
+                    "curve_coverage",
+                    "1",
+                    "share of the window dented at least once",
+                    cov.curve.iter().map(|p| p.1).collect(),
+                ),
+            ],
+            path,
+        )?;
+        file.close().map_err(&e)?;
+        Ok(())
+    })
+}

@@ -1,0 +1,240 @@
+//! Coverage against analytic expectations: dents of area `a` dropped at uniformly random
+//! places of an area `A` cover `1 - exp(-N a / A)` of it (a Poisson field); arriving at a
+//! steady rate, the Avrami fit has `n = 1` and `k = N a / (A T)`, and 98 % coverage takes
+//! `T ln 50 / (N a / A)`. Plus the command end to end.
+
+use peenflow::coverage::{Dent, compute};
+use rand::{Rng, SeedableRng};
+use std::process::Command;
+
+/// `n` dents of radius `r` at uniform places over the window grown by `r` on each side
+/// (so the window sees no edge effect) and uniform times in `[0, t]`.
+fn uniform(n: usize, r: f64, w: f64, t: f64, seed: u64) -> Vec<Dent> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| Dent {
+            x: rng.random_range(-r..w + r),
+            y: rng.random_range(-r..w + r),
+            r,
+            t: rng.random_range(0.0..t),
+        })
+        .collect()
+}
+
+#[test]
+fn uniform_random_dents_cover_one_minus_exp_minus_a() {
+    let (w, r, t_end): (f64, f64, f64) = (10e-3, 0.25e-3, 1.0);
+    let area = (w + 2.0 * r).powi(2);
+    for (n, seed) in [(1000, 1u64), (4000, 2), (10000, 3)] {
+        let mut dents = uniform(n, r, w, t_end, seed);
+        // Exposure starts at the first impact: shift it to t = 0 exactly.
+        let t_min = dents.iter().map(|d| d.t).fold(f64::INFINITY, f64::min);
+        for d in &mut dents {
+            d.t -= t_min;
+        }
+        let cov = compute(&dents, [0.0, 0.0, w, w], r / 10.0, t_end - t_min);
+        let a = n as f64 * std::f64::consts::PI * r * r / area;
+        let expected = 1.0 - (-a).exp();
+        println!(
+            "N = {n}: coverage {:.4}, expected 1 - exp(-{a:.3}) = {expected:.4}",
+            cov.final_coverage
+        );
+        // Sampling noise of a Poisson field over ~(w / 2r)^2 = 400 dent areas: ~1 %.
+        assert!(
+            (cov.final_coverage - expected).abs() < 0.015,
+            "coverage {} vs {expected}",
+            cov.final_coverage
+        );
+        // Along the exposure: C(t) = 1 - exp(-a t / T).
+        for &(tt, c) in cov.curve.iter().step_by(20) {
+            let e = 1.0 - (-a * tt / t_end).exp();
+            assert!((c - e).abs() < 0.02, "t {tt}: {c} vs {e}");
+        }
+        if let Some(fit) = cov.fit {
+            println!(
+                "  Avrami n = {:.3} (1), k = {:.3} ({a:.3}), t98 fit {:.3} (theory {:.3})",
+                fit.n,
+                fit.k,
+                fit.time_to(0.98),
+                t_end * 50f64.ln() / a
+            );
+            assert!((fit.n - 1.0).abs() < 0.05, "Avrami exponent {}", fit.n);
+            assert!(
+                (fit.k / a - 1.0).abs() < 0.06,
+                "Avrami rate {} vs {a}",
+                fit.k
+            );
+            let t98 = t_end * 50f64.ln() / a;
+            assert!((fit.time_to(0.98) / t98 - 1.0).abs() < 0.08);
+        } else {
+            panic!("no fit");
+        }
+        if let Some(t98) = cov.t98_measured {
+            assert!(expected > 0.97, "98 % reached below the expected coverage");
+            let theory = t_end * 50f64.ln() / a;
+            assert!((t98 / theory - 1.0).abs() < 0.1, "t98 {t98} vs {theory}");
+        }
+    }
+}
+
+#[test]
+fn one_dent_covers_its_disc() {
+    let r = 1e-3;
+    let dents = [Dent {
+        x: 5e-3,
+        y: 5e-3,
+        r,
+        t: 0.0,
+    }];
+    let cov = compute(&dents, [0.0, 0.0, 10e-3, 10e-3], 10e-6, 1.0);
+    let expected = std::f64::consts::PI * r * r / 1e-4;
+    assert!(
+        (cov.final_coverage / expected - 1.0).abs() < 2e-3,
+        "{} vs {expected}",
+        cov.final_coverage
+    );
+    assert_eq!(cov.dents_in_window, 1);
+    assert_eq!(*cov.counts.iter().max().unwrap(), 1);
+    // A dent outside the window covers nothing.
+    let far = [Dent {
+        x: 50e-3,
+        y: 5e-3,
+        r,
+        t: 0.0,
+    }];
+    let cov = compute(&far, [0.0, 0.0, 10e-3, 10e-3], 10e-6, 1.0);
+    assert_eq!((cov.final_coverage, cov.dents_in_window), (0.0, 0));
+}
+
+fn peenflow(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_peenflow"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn coverage_command_end_to_end() {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::write(
+        t.path().join("s.toml"),
+        "duration_ms = 30.0\n[shots.feed]\ntype = \"stream\"\nmass_flow_kg_min = 3.0\nentry_speed_m_s = 5.0\n[specimen]\nmaterial = \"A5052\"\n",
+    )
+    .unwrap();
+    let o = peenflow(&["run", "s.toml", "-q", "--out", "run"], t.path());
+    assert!(o.status.code().unwrap() <= 1);
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--window",
+            "-2,-2,2,2",
+            "--out",
+            "c",
+        ],
+        t.path(),
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        text.contains("plastic dent") && text.contains("coverage "),
+        "{text}"
+    );
+    for f in [
+        "coverage.csv",
+        "coverage.json",
+        "coverage_map.png",
+        "coverage_map.svg",
+        "coverage_curve.png",
+        "coverage_curve.svg",
+    ] {
+        assert!(t.path().join("c").join(f).is_file(), "{f} missing");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(t.path().join("c/coverage.json")).unwrap())
+            .unwrap();
+    let c = json["final_coverage"].as_f64().unwrap();
+    assert!(c > 0.0 && c <= 1.0);
+    // The curve is non-decreasing and ends at the final coverage.
+    let csv = std::fs::read_to_string(t.path().join("c/coverage.csv")).unwrap();
+    let vals: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(vals.windows(2).all(|w| w[1] >= w[0]));
+    assert_eq!(*vals.last().unwrap(), c);
+    // Again, into the same file: /coverage is replaced, the impacts stay readable.
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--out",
+            "c2",
+            "--target-material",
+            "hardened-steel",
+        ],
+        t.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = peenflow(
+        &["export", "run/impacts.h5", "-f", "csv", "--out", "e"],
+        t.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // h5py reads the map.
+    let py = Command::new("python3").args(["-c", "import h5py"]).output();
+    if py.map(|o| o.status.success()).unwrap_or(false) {
+        let o = Command::new("python3")
+            .args([
+                "-c",
+                "import h5py,sys; g=h5py.File(sys.argv[1])['coverage']; m=g['dent_count'][:]; \
+                 assert m.ndim == 2 and m.sum() > 0; assert 'hardened' not in g.attrs['target'] or True; \
+                 print(g.attrs['target'], g['curve_coverage'][-1])",
+                "run/impacts.h5",
+            ])
+            .current_dir(t.path())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stdout).starts_with("hardened-steel"));
+    } else {
+        assert!(std::env::var_os("CI").is_none(), "h5py missing in CI");
+    }
+    // Bad input: one line, exit 2.
+    for (args, needle) in [
+        (
+            vec![
+                "coverage",
+                "run/impacts.h5",
+                "--window",
+                "2,2,1,1",
+                "--out",
+                "x",
+            ],
+            "--window",
+        ),
+        (vec!["coverage", "nope.h5", "--out", "y"], "nope.h5"),
+        (
+            vec!["coverage", "run/impacts.h5", "--cell-um", "0", "--out", "z"],
+            "--cell-um",
+        ),
+        (
+            vec![
+                "coverage",
+                "run/impacts.h5",
+                "--target-material",
+                "cheese",
+                "--out",
+                "w",
+            ],
+            "cheese",
+        ),
+    ] {
+        let o = peenflow(&args, t.path());
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(e.contains(needle) && e.trim().lines().count() == 1, "{e}");
+    }
+}
