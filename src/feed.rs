@@ -44,6 +44,19 @@ fn draw_diameter(sizes: &SizeDistribution, rng: &mut ChaCha8Rng) -> f64 {
                 }
             }
         }
+        SizeDistribution::Sieve { edges, weights } => {
+            let total: f64 = weights.iter().sum();
+            let mut u = rng.random_range(0.0..total);
+            let mut k = weights.len() - 1;
+            for (i, w) in weights.iter().enumerate() {
+                if u < *w {
+                    k = i;
+                    break;
+                }
+                u -= w;
+            }
+            rng.random_range(edges[k]..=edges[k + 1])
+        }
         SizeDistribution::Discrete { diameters, weights } => {
             let total: f64 = weights.iter().sum();
             let mut u = rng.random_range(0.0..total);

@@ -102,3 +102,116 @@ rate_per_s = 200000.0
     let collisions: u32 = out.shots.iter().map(|s| s.collisions).sum();
     assert!(collisions > 0);
 }
+
+/// Mass fraction of `diameters` in each interval of `edges_desc` (mm, descending).
+fn mass_fractions(diameters: &[f64], edges_desc: &[f64]) -> Vec<f64> {
+    let total: f64 = diameters.iter().map(|d| d.powi(3)).sum();
+    edges_desc
+        .windows(2)
+        .map(|w| {
+            diameters
+                .iter()
+                .filter(|&&d| d * 1e3 <= w[0] && d * 1e3 > w[1])
+                .map(|d| d.powi(3))
+                .sum::<f64>()
+                / total
+        })
+        .collect()
+}
+
+#[test]
+fn sieve_grades_reproduce_their_retained_mass_and_the_seed_decides() {
+    for (grade, edges, retained) in peenflow::scene::SIEVE_GRADES {
+        let text = format!(
+            "duration_ms = 100.0\n[shots.size_distribution]\ntype = \"sieve\"\ngrade = \"{grade}\"\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 200000.0\n"
+        );
+        let scene = Scene::from_toml(&text, "sieve").unwrap();
+        let shots = peenflow::feed::initial_shots(&scene).unwrap();
+        let d: Vec<f64> = shots.iter().map(|s| 2.0 * s.body.radius).collect();
+        // The inlet throttles the feed (shots wait for the one ahead): ~12,600 enter.
+        assert!(d.len() > 10_000, "{}", d.len());
+        assert!(
+            d.iter()
+                .all(|&x| x * 1e3 <= edges[0] + 1e-12 && x * 1e3 >= edges[edges.len() - 1] - 1e-12)
+        );
+        let got = mass_fractions(&d, edges);
+        for (k, (g, r)) in got.iter().zip(retained.iter()).enumerate() {
+            // Multinomial noise of ~12,000 draws, in mass: well under 1.5 points.
+            assert!(
+                (100.0 * g - r).abs() < 1.5,
+                "{grade}: interval {k}: {:.2} % retained, expected {r} %",
+                100.0 * g
+            );
+        }
+        // The J444 limits hold on the drawn sample.
+        let on_first = 100.0 * got[0];
+        let cum: Vec<f64> = got
+            .iter()
+            .scan(0.0, |a, g| {
+                *a += 100.0 * g;
+                Some(*a)
+            })
+            .collect();
+        if *grade == "S330" {
+            assert!(
+                on_first <= 5.0 && cum[2] >= 85.0 && cum[3] >= 96.0,
+                "{cum:?}"
+            );
+        } else {
+            assert!(
+                on_first <= 10.0 && cum[2] >= 85.0 && cum[3] >= 97.0,
+                "{cum:?}"
+            );
+        }
+        // Same seed, same sizes; another seed, other sizes.
+        let again = peenflow::feed::initial_shots(&scene).unwrap();
+        assert!(
+            again
+                .iter()
+                .zip(&shots)
+                .all(|(a, b)| a.body.radius == b.body.radius)
+        );
+        let mut other = scene.clone();
+        other.seed += 1;
+        let other = peenflow::feed::initial_shots(&other).unwrap();
+        assert!(
+            other
+                .iter()
+                .zip(&shots)
+                .any(|(a, b)| a.body.radius != b.body.radius)
+        );
+    }
+}
+
+#[test]
+fn a_custom_sieve_analysis_and_its_errors() {
+    let ok = "[shots.size_distribution]\ntype = \"sieve\"\nopenings_mm = [1.0, 0.8, 0.6]\nretained_percent = [50.0, 50.0]\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 1000.0\n";
+    let scene = Scene::from_toml(ok, "sieve").unwrap();
+    assert!((scene.sizes.max_diameter() - 1.0e-3).abs() < 1e-15);
+    assert!((scene.sizes.min_diameter() - 0.6e-3).abs() < 1e-15);
+    for (text, needle) in [
+        (
+            "openings_mm = [1.0, 0.8, 0.6]\nretained_percent = [50.0]",
+            "one more opening",
+        ),
+        (
+            "openings_mm = [0.6, 0.8, 1.0]\nretained_percent = [50.0, 50.0]",
+            "largest down",
+        ),
+        (
+            "openings_mm = [1.0, 0.8, 0.6]\nretained_percent = [50.0, 40.0]",
+            "adds up to 90 %",
+        ),
+        ("grade = \"S999\"", "unknown grade \"S999\""),
+        (
+            "grade = \"S330\"\nopenings_mm = [1.0, 0.8]\nretained_percent = [100.0]",
+            "either grade",
+        ),
+    ] {
+        let t = format!(
+            "[shots.size_distribution]\ntype = \"sieve\"\n{text}\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 1000.0\n"
+        );
+        let e = Scene::from_toml(&t, "sieve").unwrap_err().to_string();
+        assert!(e.contains(needle), "{e}");
+    }
+}

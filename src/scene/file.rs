@@ -227,6 +227,17 @@ pub enum SizeDistributionFile {
         /// Largest diameter, mm.
         max_mm: f64,
     },
+    /// A sieve analysis: a standard grade (`grade = "S330"`) or your supplier's sieve
+    /// openings and the mass percent retained on each.
+    Sieve {
+        /// `"S230"` or `"S330"` (typical new shot within the SAE J444 limits).
+        grade: Option<String>,
+        /// Sieve openings, mm, descending: the first sieve passes everything, the last is
+        /// the smallest size kept (the pan's lower bound).
+        openings_mm: Option<Vec<f64>>,
+        /// Mass percent retained between consecutive openings (one fewer than openings).
+        retained_percent: Option<Vec<f64>>,
+    },
     /// A sieve-style list of diameters with their number fractions.
     Discrete {
         /// Diameters, mm.

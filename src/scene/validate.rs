@@ -369,6 +369,93 @@ impl SceneFile {
             }
             (
                 None,
+                Some(SizeDistributionFile::Sieve {
+                    grade,
+                    openings_mm,
+                    retained_percent,
+                }),
+            ) => {
+                let k = "shots.size_distribution";
+                let (openings, retained): (Vec<f64>, Vec<f64>) = match (
+                    grade,
+                    openings_mm,
+                    retained_percent,
+                ) {
+                    (Some(g), None, None) => {
+                        let Some((_, o, r)) = SIEVE_GRADES
+                            .iter()
+                            .find(|(n, _, _)| n.eq_ignore_ascii_case(g))
+                        else {
+                            let names: Vec<&str> =
+                                SIEVE_GRADES.iter().map(|(n, _, _)| *n).collect();
+                            return Err(c.invalid(
+                                    &format!("{k}.grade"),
+                                    format!(
+                                        "unknown grade \"{g}\"; built in: {} (or give openings_mm and retained_percent)",
+                                        names.join(", ")
+                                    ),
+                                ));
+                        };
+                        (o.to_vec(), r.to_vec())
+                    }
+                    (None, Some(o), Some(r)) => (o.clone(), r.clone()),
+                    _ => {
+                        return Err(c.invalid(
+                                k,
+                                "a sieve distribution takes either grade = \"S330\" or both openings_mm and retained_percent",
+                            ));
+                    }
+                };
+                if openings.len() < 2 || retained.len() + 1 != openings.len() {
+                    return Err(c.invalid(
+                        k,
+                        format!(
+                            "openings_mm has {} sieves and retained_percent {} values: give one more opening than retained values (the first opening passes everything)",
+                            openings.len(),
+                            retained.len()
+                        ),
+                    ));
+                }
+                let mut edges = Vec::with_capacity(openings.len());
+                for (i, &o) in openings.iter().enumerate() {
+                    let d = dia(&format!("{k}.openings_mm[{i}]"), o)?;
+                    if i > 0 && d >= edges[i - 1] {
+                        return Err(c.invalid(
+                            &format!("{k}.openings_mm[{i}]"),
+                            format!(
+                                "{} mm is not smaller than the sieve before it: list openings from the largest down",
+                                num(o)
+                            ),
+                        ));
+                    }
+                    edges.push(d);
+                }
+                let mut mass = Vec::with_capacity(retained.len());
+                for (i, &r) in retained.iter().enumerate() {
+                    mass.push(c.range(
+                        &format!("{k}.retained_percent[{i}]"),
+                        r,
+                        B::In(0.0),
+                        B::In(100.0),
+                        "%",
+                    )?);
+                }
+                let total: f64 = mass.iter().sum();
+                if !(99.0..=101.0).contains(&total) {
+                    return Err(c.invalid(
+                        &format!("{k}.retained_percent"),
+                        format!(
+                            "adds up to {} %; a sieve analysis adds up to 100 %",
+                            num(total)
+                        ),
+                    ));
+                }
+                edges.reverse();
+                mass.reverse();
+                SizeDistribution::sieve(edges, &mass)
+            }
+            (
+                None,
                 Some(SizeDistributionFile::Discrete {
                     diameters_mm,
                     weights,
