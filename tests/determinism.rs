@@ -28,3 +28,28 @@ fn outputs_are_identical_across_runs_and_thread_counts() {
         outputs[0].0
     );
 }
+
+#[test]
+fn friction_and_sieve_sizes_are_deterministic_across_thread_counts() {
+    let tmp = tempfile::tempdir().unwrap();
+    for scene in ["friction_spin.toml", "s330_stream.toml"] {
+        let path = root().join("examples").join(scene);
+        let path = path.to_str().unwrap();
+        let mut outputs = Vec::new();
+        for threads in ["1", "2"] {
+            let out = format!("{scene}-{threads}");
+            let o = peenflow(
+                &["run", path, "--out", &out, "-q", "-j", threads],
+                tmp.path(),
+            );
+            assert!(
+                o.status.code().unwrap() <= 1,
+                "{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            outputs.push(fs::read(tmp.path().join(&out).join("impacts.csv")).unwrap());
+        }
+        assert!(outputs[0].len() > 500, "{scene}");
+        assert!(outputs[0] == outputs[1], "{scene}: 1 and 2 threads differ");
+    }
+}
