@@ -172,16 +172,16 @@ impl CellList {
                 }
             }
         };
-        for i in 0..n {
-            if !big(radii[i]) {
-                let reach = (2.0 * radii[i] / cell).ceil() as i64;
+        for (i, &r) in radii.iter().enumerate() {
+            if !big(r) {
+                let reach = (2.0 * r / cell).ceil() as i64;
                 scan(&self.fine, i, reach, &mut out);
             }
         }
         if let Some(r_big) = r_big {
             self.coarse.build(centres, 2.0 * r_big);
-            for i in 0..n {
-                if big(radii[i]) {
+            for (i, &r) in radii.iter().enumerate() {
+                if big(r) {
                     scan(&self.coarse, i, 1, &mut out);
                 }
             }
