@@ -104,6 +104,16 @@ def effects(tmp):
         note = "all effects on (auto)" if off is None else ""
         print(f"| {off or '(none)'} | {walls[2]:.4f} | {steps:,} | {note} |")
         sys.stdout.flush()
+    # Friction is off by default (the paper is frictionless): its cost is switching it on.
+    path = os.path.join(tmp, "effects.toml")
+    open(path, "w").write(base + "\n[friction]\nshot_specimen = 0.3\nshot_shot = 0.2\nshot_nozzle = 0.2\n")
+    walls, steps = [], 0
+    for _ in range(5):
+        r = peenflow(path, 1, tmp, "eff")
+        walls.append(r["wall"])
+        steps = r["shot_steps"]
+    walls.sort()
+    print(f"| (none; friction switched on, mu 0.3 / 0.2 / 0.2) | {walls[2]:.4f} | {steps:,} | spin integrated |")
 
 
 def liggghts_loop_times(log):
