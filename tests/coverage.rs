@@ -238,3 +238,55 @@ fn coverage_command_end_to_end() {
         assert!(e.contains(needle) && e.trim().lines().count() == 1, "{e}");
     }
 }
+
+#[test]
+fn a_sweep_case_gives_the_coverage_of_one_seed() {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::write(
+        t.path().join("s.toml"),
+        "seeds = [1, 2]\n[vary]\n\"air.gauge_pressure_mpa\" = [0.6]\n",
+    )
+    .unwrap();
+    let o = peenflow(&["sweep", "s.toml", "--out", "sw", "-q"], t.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let case = "sw/case-000_gauge_pressure_mpa-0.6/impacts.h5";
+    let mut dents = Vec::new();
+    for seed in ["1", "2"] {
+        let out = format!("c{seed}");
+        let o = peenflow(
+            &["coverage", case, "--seed", seed, "--no-h5", "--out", &out],
+            t.path(),
+        );
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(text.contains(&format!("coverage of seed {seed}")), "{text}");
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(t.path().join(&out).join("coverage.json")).unwrap(),
+        )
+        .unwrap();
+        dents.push(json["dents"].as_u64().unwrap());
+        // The same seed run alone has as many impacts (all dent: normal speed > 0).
+        let o = peenflow(
+            &[
+                "run",
+                "sw/case-000_gauge_pressure_mpa-0.6/scene.toml",
+                "--seed",
+                seed,
+                "-q",
+                "--out",
+                &format!("r{seed}"),
+            ],
+            t.path(),
+        );
+        assert!(o.status.code().unwrap() <= 1);
+        let rows = std::fs::read_to_string(t.path().join(format!("r{seed}/impacts.csv")))
+            .unwrap()
+            .lines()
+            .count()
+            - 1;
+        assert_eq!(rows as u64, *dents.last().unwrap());
+    }
+    let o = peenflow(&["coverage", case, "--seed", "7", "--out", "c7"], t.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("holds seeds 1, 2"));
+}

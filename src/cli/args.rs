@@ -66,6 +66,10 @@ pub struct CoverageArgs {
     /// Leave the impact file as it is (do not add /coverage).
     #[arg(long)]
     pub no_h5: bool,
+    /// Seed to use from a sweep case's impacts.h5, which pools several (default: the
+    /// first).
+    #[arg(long)]
+    pub seed: Option<u64>,
 }
 
 /// `peenflow sweep`.

@@ -511,8 +511,15 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         target,
         out: a.out.clone(),
         update_h5: !a.no_h5,
+        seed: a.seed,
     })?;
     let c = &r.coverage;
+    if r.seed.1 > 1 {
+        println!(
+            "the file pools {} seeds (a sweep case); coverage of seed {} (choose with --seed)",
+            r.seed.1, r.seed.0
+        );
+    }
     println!("target {}: {}", r.target, r.model.describe());
     println!(
         "{} dents, median diameter {:.3} mm; window x {:.2}..{:.2} mm, y {:.2}..{:.2} mm, {} x {} cells of {:.1} um",

@@ -23,6 +23,8 @@ pub struct Request {
     pub out: PathBuf,
     /// Add `/coverage` to the impact file.
     pub update_h5: bool,
+    /// Seed to use from a file pooling several seeds (a sweep case); default: the first.
+    pub seed: Option<u64>,
 }
 
 /// The study's result, for printing.
@@ -40,6 +42,8 @@ pub struct Report {
     pub coverage: Coverage,
     /// Files written.
     pub written: Vec<PathBuf>,
+    /// The seed used and how many the file holds (a sweep case pools several).
+    pub seed: (u64, usize),
 }
 
 /// Errors of the coverage command.
@@ -76,8 +80,37 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         .clone()
         .unwrap_or_else(|| scene.specimen_material.clone());
     let model = DentModel::for_pair(&scene.shot_material, &target);
-    let ds = dents(&file.impacts, &model);
     let shown = req.impacts.display().to_string();
+    // A sweep case pools several seeds (independent repeats of the same exposure): the
+    // coverage is that of one of them.
+    let mut seeds: Vec<u64> = file.seeds.clone();
+    seeds.sort_unstable();
+    seeds.dedup();
+    let seed = match req.seed {
+        Some(s) if seeds.contains(&s) => s,
+        Some(s) => {
+            return Err(CoverageError::Empty {
+                path: shown,
+                message: format!(
+                    "--seed {s}: the file holds seeds {}",
+                    seeds
+                        .iter()
+                        .map(|s| s.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            });
+        }
+        None => seeds.first().copied().unwrap_or(file.seed),
+    };
+    let impacts: Vec<crate::record::Impact> = file
+        .impacts
+        .iter()
+        .zip(&file.seeds)
+        .filter(|(_, s)| **s == seed)
+        .map(|(i, _)| i.clone())
+        .collect();
+    let ds = dents(&impacts, &model);
     if ds.is_empty() {
         return Err(CoverageError::Empty {
             path: shown,
@@ -112,6 +145,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         "impacts": shown,
         "target": target.name,
         "dent_model": model.describe(),
+        "seed": seed,
         "dents": ds.len(),
         "dents_in_window": cov.dents_in_window,
         "median_dent_diameter_m": 2.0 * median_r,
@@ -194,6 +228,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         median_dent_diameter: 2.0 * median_r,
         coverage: cov,
         written,
+        seed: (seed, seeds.len().max(1)),
     })
 }
 
