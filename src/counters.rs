@@ -37,6 +37,8 @@ pub struct WorkCounters {
     pub contact_onsets: u64,
     /// Tangential (friction) force evaluations.
     pub friction_calls: u64,
+    /// Turbulent eddies drawn.
+    pub eddies: u64,
 }
 
 impl WorkCounters {
@@ -57,5 +59,6 @@ impl WorkCounters {
         self.region_crossings += other.region_crossings;
         self.contact_onsets += other.contact_onsets;
         self.friction_calls += other.friction_calls;
+        self.eddies += other.eddies;
     }
 }

@@ -19,7 +19,7 @@ use crate::contact::{ContactSet, Friction, HertzLaw, PairContact, SpecimenContac
 use crate::counters::WorkCounters;
 use crate::export::vtk::SnapshotPoint;
 use crate::flow::JetField;
-use crate::forces::{DragModel, ForceSet, GravityModel, LateralForceModel};
+use crate::forces::{DragModel, ForceSet, GravityModel, LateralForceModel, Turbulence};
 use crate::integrate::island::{self, IslandOutput, IslandPair, Physics, Scratch};
 use crate::record::{Impact, RunEvent};
 use crate::scene::{Effects, Scene, SceneError};
@@ -63,6 +63,12 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
             acceleration: Vec3::new(0.0, 0.0, -scene.gravity),
         }),
         field,
+        turbulence: (effects.turbulent_dispersion && effects.drag).then_some(Turbulence {
+            intensity: scene.jet.turbulence_intensity,
+            scale: 0.4,
+            bore: scene.nozzle.bore,
+            seed: scene.seed,
+        }),
     };
     let shot = &scene.shot_material;
     let law = |other: &crate::scene::Material, e: f64| {

@@ -53,6 +53,12 @@ pub struct ShotState {
     pub vel: Vec3,
     /// Angular velocity, rad/s (integrated only with the `friction` effect).
     pub omega: Vec3,
+    /// Turbulent air-velocity fluctuation the shot sees (the current eddy), m/s.
+    pub gust: Vec3,
+    /// Time the current eddy ends, s (`-inf`: none).
+    pub gust_until: f64,
+    /// Eddies met so far (numbers the shot's random draws).
+    pub gusts: u32,
     /// Radius and mass.
     pub body: ShotBody,
     /// Time the shot enters the run, s (0 for batch feeds).
@@ -99,6 +105,9 @@ impl ShotState {
             pos,
             vel,
             omega: Vec3::zeros(),
+            gust: Vec3::zeros(),
+            gust_until: f64::NEG_INFINITY,
+            gusts: 0,
             body,
             t_start,
             status: ShotStatus::Active,

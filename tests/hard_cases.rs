@@ -33,6 +33,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
                 acceleration: Vec3::new(0.0, 0.0, -gravity),
             }),
             field: None,
+            turbulence: None,
         },
         contacts: ContactSet {
             specimen: specimen.map(|law| SpecimenContact { law }),

@@ -69,7 +69,7 @@ proptest! {
         }
         let law = |e| HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, e);
         let phys = Physics {
-            forces: ForceSet { drag: None, lateral: None, gravity: None, field: None },
+            forces: ForceSet { drag: None, lateral: None, gravity: None, field: None, turbulence: None },
             contacts: ContactSet {
                 specimen: enc.with_specimen.then(|| SpecimenContact { law: law(enc.e_wall) }),
                 wall: None,

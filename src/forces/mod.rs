@@ -6,10 +6,12 @@
 pub mod drag;
 pub mod gravity;
 pub mod lateral;
+pub mod turbulence;
 
 pub use drag::DragModel;
 pub use gravity::GravityModel;
 pub use lateral::LateralForceModel;
+pub use turbulence::Turbulence;
 
 use crate::Vec3;
 use crate::counters::WorkCounters;
@@ -43,6 +45,8 @@ pub struct ForceSet {
     pub gravity: Option<GravityModel>,
     /// The jet field; `Some` exactly when drag or the lateral force is on.
     pub field: Option<JetField>,
+    /// Turbulent eddies seen through drag (beyond the paper).
+    pub turbulence: Option<Turbulence>,
 }
 
 impl ForceSet {
@@ -52,7 +56,9 @@ impl ForceSet {
         self.field.is_some()
     }
 
-    /// Acceleration (m/s^2) of `body` at `pos`, `vel`, with the jet region frozen to `region`.
+    /// Acceleration (m/s^2) of `body` at `pos`, `vel`, with the jet region frozen to
+    /// `region`; `gust` is the turbulent fluctuation the shot sees (zero without the
+    /// effect), added to the air velocity in drag.
     #[inline]
     pub fn acceleration(
         &self,
@@ -60,6 +66,7 @@ impl ForceSet {
         pos: &Vec3,
         vel: &Vec3,
         region: Region,
+        gust: &Vec3,
         work: &mut WorkCounters,
     ) -> Vec3 {
         let mut force = Vec3::zeros();
@@ -69,7 +76,12 @@ impl ForceSet {
             let area = body.area();
             if let Some(drag) = &self.drag {
                 work.drag_calls += 1;
-                force += drag.force(area, flow.density, &flow.velocity, vel);
+                let air = if self.turbulence.is_some() && Turbulence::turbulent(region) {
+                    flow.velocity + gust
+                } else {
+                    flow.velocity
+                };
+                force += drag.force(area, flow.density, &air, vel);
             }
             if let Some(lateral) = &self.lateral {
                 work.lateral_force_calls += 1;
@@ -94,7 +106,10 @@ impl ForceSet {
                 .map(|d| d.coefficient)
                 .or(self.lateral.map(|l| l.drag.coefficient))
                 .unwrap_or(0.0);
-            let rel = field.max_speed() + speed;
+            let gusts = self
+                .turbulence
+                .map_or(0.0, |t| 3f64.sqrt() * turbulence::TRUNCATION * t.intensity);
+            let rel = field.max_speed() * (1.0 + gusts) + speed;
             let drag = 0.5 * field.max_density() * cd * body.area() * rel * rel / body.mass;
             // Lateral force <= (C_L/C_D) f tan^2(alpha) |a_axial| with f <= ~2 near the lip.
             let lateral = self.lateral.map_or(0.0, |l| {

@@ -19,7 +19,7 @@ use crate::Vec3;
 use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
-use crate::forces::ForceSet;
+use crate::forces::{ForceSet, Turbulence};
 use crate::integrate::dopri::Dopri5;
 use crate::record::{Impact, RunEvent};
 use crate::state::{Domain, ShotState, ShotStatus};
@@ -244,7 +244,7 @@ impl Ctx<'_> {
             let mut a = self
                 .phys
                 .forces
-                .acceleration(&m.body, &p, &v, m.region, work);
+                .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
             if let Some(sp) = &c.specimen {
                 work.specimen_contact_checks += 1;
                 let gap = sp.gap(&p, m.body.radius);
@@ -595,6 +595,32 @@ impl Ctx<'_> {
                     if next != m.region {
                         m.region = next;
                         out.work.region_crossings += 1;
+                        changed = true;
+                    }
+                }
+                // Turbulent eddies: a new one when the last has lived its lifetime; none
+                // outside the mixing layer and the developed jet.
+                if let Some(turb) = &self.phys.forces.turbulence {
+                    if !Turbulence::turbulent(m.region) {
+                        if m.gust_until > f64::NEG_INFINITY {
+                            m.gust = Vec3::zeros();
+                            m.gust_until = f64::NEG_INFINITY;
+                            changed = true;
+                        }
+                    } else if t >= m.gust_until {
+                        let (u, _) = field.speed_density(&co, m.region);
+                        match turb.eddy(m.id.0, m.gusts, &co, m.region, u) {
+                            Some((g, life)) => {
+                                m.gust = g;
+                                m.gust_until = t + life;
+                                m.gusts += 1;
+                                out.work.eddies += 1;
+                            }
+                            None => {
+                                m.gust = Vec3::zeros();
+                                m.gust_until = f64::NEG_INFINITY;
+                            }
+                        }
                         changed = true;
                     }
                 }
@@ -1010,6 +1036,11 @@ pub fn advance_observed(
             if m.is_active() && m.t_start > t && m.t_start < t + h {
                 h = m.t_start - t;
                 lands_at = Some(m.t_start);
+            }
+            // A step ends where an eddy does: the next one is drawn there.
+            if moving(m, t) && m.gust_until > t && m.gust_until < t + h {
+                h = m.gust_until - t;
+                lands_at = Some(m.gust_until);
             }
         }
         if !members.iter().any(|m| moving(m, t)) {

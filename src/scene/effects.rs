@@ -19,7 +19,7 @@ pub enum Switch {
 }
 
 /// The effects, in report order.
-pub const EFFECT_NAMES: [&str; 7] = [
+pub const EFFECT_NAMES: [&str; 8] = [
     "drag",
     "lateral_force",
     "gravity",
@@ -27,19 +27,20 @@ pub const EFFECT_NAMES: [&str; 7] = [
     "shot_shot_contact",
     "nozzle_wall_contact",
     "friction",
+    "turbulent_dispersion",
 ];
 
 /// The settings as written (all `Auto` when `[effects]` is absent).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EffectRequest {
     /// Per effect, in [`EFFECT_NAMES`] order.
-    pub switches: [Switch; 7],
+    pub switches: [Switch; 8],
 }
 
 impl EffectRequest {
     /// Parses the `effects` value of a scene file.
     pub fn from_value(v: Option<&toml::Value>, path: &str) -> Result<Self, SceneError> {
-        let mut switches = [Switch::Auto; 7];
+        let mut switches = [Switch::Auto; 8];
         let bad = |key: &str, message: String| SceneError::Invalid {
             path: path.to_string(),
             key: key.to_string(),
@@ -120,6 +121,8 @@ pub struct Effects {
     pub nozzle_wall_contact: bool,
     /// Coulomb friction in the contacts, with shot spin.
     pub friction: bool,
+    /// Turbulent velocity fluctuations of the jet (random eddies) acting through drag.
+    pub turbulent_dispersion: bool,
     /// Every decision with its reason, in [`EFFECT_NAMES`] order.
     pub decisions: Vec<EffectDecision>,
 }
@@ -141,7 +144,8 @@ impl Scene {
         };
         let fr = &self.friction;
         let any_friction = fr.shot_specimen > 0.0 || fr.shot_shot > 0.0 || fr.shot_nozzle > 0.0;
-        let auto: [(bool, String); 7] = [
+        let turbulent = self.jet.turbulence_intensity > 0.0;
+        let auto: [(bool, String); 8] = [
             (true, "auto: shots fly through the air jet".into()),
             (
                 self.jet.lift_coefficient > 0.0 && self.jet.divergence_tan > 0.0,
@@ -184,6 +188,14 @@ impl Scene {
                     "auto: every [friction] coefficient is zero (frictionless, as the paper)".into()
                 },
             ),
+            (
+                turbulent,
+                if turbulent {
+                    "auto: jet.turbulence_intensity > 0".into()
+                } else {
+                    "auto: jet.turbulence_intensity = 0 (mean flow only, as the paper)".into()
+                },
+            ),
         ];
         let mut decisions = Vec::new();
         for (i, name) in EFFECT_NAMES.iter().enumerate() {
@@ -202,6 +214,7 @@ impl Scene {
             shot_shot_contact: decisions[4].on,
             nozzle_wall_contact: decisions[5].on,
             friction: decisions[6].on,
+            turbulent_dispersion: decisions[7].on,
             decisions,
         }
     }

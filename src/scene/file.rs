@@ -165,6 +165,9 @@ pub struct JetFile {
     pub lift_coefficient: f64,
     /// Streamline divergence `tan(alpha)` (paper: 0.10).
     pub divergence_tan: f64,
+    /// Turbulence intensity of the mixing layer and developed jet, a fraction of the
+    /// local mean air speed (beyond the paper; 0: off). Drives `turbulent_dispersion`.
+    pub turbulence_intensity: f64,
 }
 
 impl Default for JetFile {
@@ -176,6 +179,7 @@ impl Default for JetFile {
             drag_coefficient: 0.47,
             lift_coefficient: 0.15,
             divergence_tan: 0.1,
+            turbulence_intensity: 0.0,
         }
     }
 }

@@ -127,6 +127,8 @@ pub struct JetSettings {
     pub lift_coefficient: f64,
     /// `tan(alpha)`.
     pub divergence_tan: f64,
+    /// Turbulence intensity (fraction of the local mean speed; 0: none).
+    pub turbulence_intensity: f64,
 }
 
 /// Shot diameters, m.

@@ -311,6 +311,13 @@ impl SceneFile {
                 B::In(1.0),
                 "",
             )?,
+            turbulence_intensity: c.range(
+                "jet.turbulence_intensity",
+                j.turbulence_intensity,
+                B::In(0.0),
+                B::In(0.5),
+                "",
+            )?,
         };
 
         // Shot sizes.
@@ -921,6 +928,16 @@ impl SceneFile {
                 && (friction.shot_specimen > 0.0
                     || friction.shot_shot > 0.0
                     || friction.shot_nozzle > 0.0));
+        let turbulence_asked = effects.switches[7] == super::effects::Switch::On
+            || (effects.switches[7] == super::effects::Switch::Auto
+                && jet.turbulence_intensity > 0.0);
+        if turbulence_asked && matches!(method, crate::integrate::island::Method::Verlet { .. }) {
+            return Err(c.invalid(
+                "integrator.method",
+                "the velocity-Verlet baseline does not renew turbulent eddies: use method = \"adaptive\" \
+                 with jet.turbulence_intensity > 0, or set effects.turbulent_dispersion = false",
+            ));
+        }
         if friction_asked && matches!(method, crate::integrate::island::Method::Verlet { .. }) {
             return Err(c.invalid(
                 "integrator.method",

@@ -48,6 +48,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
             lateral: None,
             gravity: None,
             field: None,
+            turbulence: None,
         },
         contacts: ContactSet {
             specimen: specimen_e.map(|e| SpecimenContact { law: law(e) }),
