@@ -106,7 +106,9 @@ def effects(tmp):
         sys.stdout.flush()
     # Friction is off by default (the paper is frictionless): its cost is switching it on.
     path = os.path.join(tmp, "effects.toml")
-    open(path, "w").write(base + "\n[friction]\nshot_specimen = 0.3\nshot_shot = 0.2\nshot_nozzle = 0.2\n")
+    text = re.sub(r"(?ms)^\[friction\].*?(?=^\[)", "[friction]\nshot_specimen = 0.3\nshot_shot = 0.2\nshot_nozzle = 0.2\n\n", base)
+    assert "shot_specimen = 0.3" in text
+    open(path, "w").write(text)
     walls, steps = [], 0
     for _ in range(5):
         r = peenflow(path, 1, tmp, "eff")
