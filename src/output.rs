@@ -98,6 +98,47 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     result.map_err(io(path))
 }
 
+/// Streams CSV rows into `path` atomically (a buffered temporary file, then rename): the
+/// table is never held in memory as text.
+fn write_csv_atomic<T: Serialize>(
+    path: &Path,
+    header: &str,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), OutputError> {
+    let tmp = temp_name(path);
+    let csv_err = |source| OutputError::Csv {
+        path: path.display().to_string(),
+        source,
+    };
+    let result = (|| {
+        let file = fs::File::create(&tmp).map_err(io(path))?;
+        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
+        let mut empty = true;
+        for r in rows {
+            w.serialize(r).map_err(csv_err)?;
+            empty = false;
+        }
+        let mut buf = w.into_inner().map_err(|e| OutputError::Io {
+            path: path.display().to_string(),
+            source: e.into_error(),
+        })?;
+        if empty {
+            // serde writes the header with the first row: write it alone.
+            buf.write_all(header.as_bytes()).map_err(io(path))?;
+        }
+        let file = buf.into_inner().map_err(|e| OutputError::Io {
+            path: path.display().to_string(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(io(path))?;
+        fs::rename(&tmp, path).map_err(io(path))
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
 fn temp_name(path: &Path) -> PathBuf {
     let name = path
         .file_name()
@@ -135,6 +176,9 @@ pub fn impacts_csv(impacts: &[Impact], path: &Path) -> Result<Vec<u8>, OutputErr
 
 /// Header of impacts.csv.
 pub const IMPACT_HEADER: &str = "shot,time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,normal_speed_m_s,angle_deg,diameter_m,first_hit,tangential_speed_m_s,center_x_m,center_y_m,center_z_m,mass_kg,kinetic_energy_j,collisions_before,omega_x_rad_s,omega_y_rad_s,omega_z_rad_s\n";
+
+/// Header of shots.csv (written alone when a run has no shot).
+pub const SHOT_HEADER: &str = "shot,status,t_start_s,t_stop_s,hits,collisions,wall_contacts,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,diameter_m,steps,steps_to_first_contact,first_contact_steps\n";
 
 /// One row of shots.csv: a shot's final state and history.
 #[derive(Debug, Serialize)]
@@ -209,10 +253,12 @@ pub fn write_run(
     out: &RunOutput,
     summary: &Summary,
 ) -> Result<(), OutputError> {
-    let p = dir.join("impacts.csv");
-    write_atomic(&p, &impacts_csv(&out.impacts, &p)?)?;
-    let p = dir.join("shots.csv");
-    write_atomic(&p, &csv_bytes(&p, out.shots.iter().map(ShotRow::from))?)?;
+    write_csv_atomic(&dir.join("impacts.csv"), IMPACT_HEADER, &out.impacts)?;
+    write_csv_atomic(
+        &dir.join("shots.csv"),
+        SHOT_HEADER,
+        out.shots.iter().map(ShotRow::from),
+    )?;
     crate::export::hdf5::write(
         &dir.join("impacts.h5"),
         &crate::export::hdf5::ImpactFileData {
