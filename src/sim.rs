@@ -262,6 +262,16 @@ pub struct Simulation {
     snapshot_interval: Option<f64>,
     snapshot_points: Vec<(u64, SnapshotPoint)>,
     last_window: f64,
+    /// Shot indices by entry time (then index): the feed's queue.
+    by_start: Vec<usize>,
+    /// How many of `by_start` have been admitted to `live`.
+    admitted: usize,
+    /// Admitted shots still active, ascending: the only ones a window looks at, so the
+    /// per-window work follows the shots in flight, not every shot fed.
+    live: Vec<usize>,
+    /// Per-shot reach and kicked flags, reused across windows (entries of `live` only).
+    reach_buf: Vec<f64>,
+    kicked_buf: Vec<bool>,
 }
 
 impl Simulation {
@@ -279,7 +289,20 @@ impl Simulation {
                 s.region = field.region_of(&field.coords(&s.pos));
             }
         }
+        let mut by_start: Vec<usize> = (0..shots.len()).collect();
+        by_start.sort_by(|&a, &b| {
+            shots[a]
+                .t_start
+                .total_cmp(&shots[b].t_start)
+                .then(a.cmp(&b))
+        });
+        let n = shots.len();
         Simulation {
+            by_start,
+            admitted: 0,
+            live: Vec::new(),
+            reach_buf: vec![0.0; n],
+            kicked_buf: vec![false; n],
             physics,
             shots,
             pairs: HashMap::default(),
@@ -326,6 +349,8 @@ impl Simulation {
             self.run_independent(progress);
         } else {
             while self.t < self.end {
+                let now = self.t;
+                self.admit(|t| t <= now);
                 let h = self.window_length();
                 let t1 = if self.t + h >= self.end {
                     self.end
@@ -422,22 +447,43 @@ impl Simulation {
         self.work.add(&o.work);
     }
 
+    /// Moves the shots of the feed's queue whose entry time passes `due` into `live`
+    /// (kept ascending).
+    fn admit(&mut self, due: impl Fn(f64) -> bool) {
+        let mut added = false;
+        while let Some(&i) = self.by_start.get(self.admitted) {
+            if !due(self.shots[i].t_start) {
+                break;
+            }
+            self.live.push(i);
+            self.admitted += 1;
+            added = true;
+        }
+        if added {
+            self.live.sort_unstable();
+        }
+    }
+
     /// Window length: about the time the fastest shot needs to cross the smallest shot's
     /// diameter, so islands stay small.
     fn window_length(&self) -> f64 {
         let mut v_max: f64 = 0.0;
         let mut d_min = f64::INFINITY;
-        for s in &self.shots {
+        for &i in &self.live {
+            let s = &self.shots[i];
             if s.is_active() && s.t_start <= self.t {
                 v_max = v_max.max(s.vel.norm());
                 d_min = d_min.min(2.0 * s.body.radius);
             }
         }
         if !d_min.is_finite() {
-            // Nobody has entered yet: jump to the next entry (bounded by MAX_WINDOW).
+            // Nobody has entered yet: jump to the next entry (bounded by MAX_WINDOW):
+            // admitted shots not yet entered, or the next in the feed's queue.
             let next = self
-                .shots
+                .live
                 .iter()
+                .chain(self.by_start.get(self.admitted))
+                .map(|&i| &self.shots[i])
                 .filter(|s| s.is_active() && s.t_start > self.t)
                 .map(|s| s.t_start)
                 .fold(f64::INFINITY, f64::min);
@@ -464,6 +510,7 @@ impl Simulation {
     /// propagated through the absolute-reach pairs.
     fn refine_candidates(
         &self,
+        idx: &[usize],
         widest: &HashSet<(u32, u32)>,
         reach: &[f64],
         kicked: &mut [bool],
@@ -497,7 +544,9 @@ impl Simulation {
                     .acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
             gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
         };
-        kicked.iter_mut().for_each(|k| *k = false);
+        for &i in idx {
+            kicked[i] = false;
+        }
         let mut stack: Vec<usize> = Vec::new();
         let mark = |i: usize, kicked: &mut [bool], stack: &mut Vec<usize>| {
             if !kicked[i] {
@@ -507,7 +556,8 @@ impl Simulation {
         };
         let specimen = self.physics.contacts.specimen.is_some();
         let wall = self.physics.contacts.wall;
-        for (i, s) in self.shots.iter().enumerate() {
+        for &i in idx {
+            let s = &self.shots[i];
             if !s.is_active() || !entered(i) {
                 continue;
             }
@@ -591,7 +641,11 @@ impl Simulation {
         });
         let mut contact: Option<usize> = None;
         // Shots taking part: active and entering before the (longest) window ends.
-        let all: Vec<usize> = (0..self.shots.len())
+        self.admit(|t| t < t1);
+        let all: Vec<usize> = self
+            .live
+            .iter()
+            .copied()
             .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
             .collect();
         if all.is_empty() {
@@ -599,8 +653,8 @@ impl Simulation {
         }
         // Candidates for the longest window; shorter windows only need a subset of them.
         let widest = self.candidates(&all, t0, t1);
-        let mut reach = vec![0.0; self.shots.len()];
-        let mut kicked = vec![false; self.shots.len()];
+        let mut reach = std::mem::take(&mut self.reach_buf);
+        let mut kicked = std::mem::take(&mut self.kicked_buf);
         let (idx, mut candidates) = loop {
             let idx: Vec<usize> = all
                 .iter()
@@ -610,7 +664,7 @@ impl Simulation {
             for &i in &idx {
                 reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
             }
-            let candidates = self.refine_candidates(&widest, &reach, &mut kicked, t0, t1);
+            let candidates = self.refine_candidates(&idx, &widest, &reach, &mut kicked, t0, t1);
             let largest = self.largest_island(&idx, candidates.iter());
             // Stop when islands are small, when they are mostly held together by contacts
             // in progress (shrinking cannot split those), or at the shortest window.
@@ -621,18 +675,25 @@ impl Simulation {
             }
             t1 = t0 + 0.25 * (t1 - t0);
         };
+        self.reach_buf = reach;
+        self.kicked_buf = kicked;
         loop {
             let (islands, results) = self.integrate_islands(&idx, &candidates, t0, t1);
             // Verify: an overlap at the window end between shots that were not paired
             // means the reach bound was beaten (e.g. a shot kicked by a collision).
             let ends: Vec<Vec3> = {
-                let mut pos = vec![Vec3::zeros(); self.shots.len()];
+                // `idx` is ascending: each member's slot by binary search (no per-window
+                // array over every shot fed).
+                let mut pos = vec![Vec3::zeros(); idx.len()];
                 for (isl, (members, _, _, _)) in islands.iter().zip(&results) {
                     for (k, &gi) in isl.iter().enumerate() {
-                        pos[gi] = members[k].pos;
+                        let slot = idx
+                            .binary_search(&gi)
+                            .expect("BUG: island member outside idx");
+                        pos[slot] = members[k].pos;
                     }
                 }
-                idx.iter().map(|&i| pos[i]).collect()
+                pos
             };
             let radii: Vec<f64> = idx.iter().map(|&i| self.shots[i].body.radius).collect();
             self.work.neighbour_searches += 1;
@@ -656,6 +717,8 @@ impl Simulation {
             self.commit_islands(&islands, results);
             break;
         }
+        let shots = &self.shots;
+        self.live.retain(|&i| shots[i].is_active());
         t1
     }
 
@@ -665,25 +728,14 @@ impl Simulation {
         idx: &[usize],
         pairs: impl Iterator<Item = &'a (u32, u32)>,
     ) -> usize {
-        let n = self.shots.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn find(p: &mut [u32], mut x: u32) -> u32 {
-            while p[x as usize] != x {
-                p[x as usize] = p[p[x as usize] as usize];
-                x = p[x as usize];
-            }
-            x
-        }
+        let mut uf = LocalUnionFind::new(idx);
         for &(a, b) in pairs {
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                parent[ra.max(rb) as usize] = ra.min(rb);
-            }
+            uf.union(a as usize, b as usize);
         }
-        let mut size = vec![0u32; n];
+        let mut size = vec![0u32; uf.parent.len()];
         let mut largest = 0;
-        for &i in idx {
-            let r = find(&mut parent, i as u32) as usize;
+        for k in 0..idx.len() {
+            let r = uf.find(k);
             size[r] += 1;
             largest = largest.max(size[r] as usize);
         }
@@ -697,37 +749,25 @@ impl Simulation {
         idx: &[usize],
         candidates: &HashSet<(u32, u32)>,
     ) -> (Vec<Vec<usize>>, Vec<IslandPairs>) {
-        // Union-find over global indices (shot id == index).
-        let n = self.shots.len();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn find(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
+        let mut uf = LocalUnionFind::new(idx);
         let mut sorted: Vec<(u32, u32)> = candidates.iter().copied().collect();
         sorted.sort_unstable();
         for &(a, b) in &sorted {
-            let (ra, rb) = (find(&mut parent, a as usize), find(&mut parent, b as usize));
-            if ra != rb {
-                parent[ra.max(rb)] = ra.min(rb);
-            }
+            uf.union(a as usize, b as usize);
         }
         let mut by_root: HashMap<usize, usize> = HashMap::default();
         let mut islands: Vec<Vec<usize>> = Vec::new();
-        for &i in idx {
-            let r = find(&mut parent, i);
-            let k = *by_root.entry(r).or_insert_with(|| {
+        for (k, &i) in idx.iter().enumerate() {
+            let r = uf.find(k);
+            let slot = *by_root.entry(r).or_insert_with(|| {
                 islands.push(Vec::new());
                 islands.len() - 1
             });
-            islands[k].push(i);
+            islands[slot].push(i);
         }
         let mut island_pairs: Vec<Vec<(u32, u32)>> = vec![Vec::new(); islands.len()];
         for &(a, b) in &sorted {
-            let r = find(&mut parent, a as usize);
+            let r = uf.find_global(a as usize);
             if let Some(&k) = by_root.get(&r) {
                 island_pairs[k].push((a, b));
             }
@@ -827,4 +867,76 @@ pub fn status_counts(shots: &[ShotState]) -> [(ShotStatus, usize); 3] {
         (ShotStatus::LeftDomain, count(ShotStatus::LeftDomain)),
         (ShotStatus::Failed, count(ShotStatus::Failed)),
     ]
+}
+
+/// Union-find over the shots of a window (`idx`, ascending global indices; node `k` is
+/// `idx[k]`), so its cost follows the shots in flight, not every shot fed. Endpoints
+/// outside `idx` get extra nodes. The root of a set is its smallest node, hence its
+/// smallest global index.
+struct LocalUnionFind<'a> {
+    idx: &'a [usize],
+    parent: Vec<usize>,
+    extra: HashMap<usize, usize>,
+}
+
+impl<'a> LocalUnionFind<'a> {
+    fn new(idx: &'a [usize]) -> Self {
+        LocalUnionFind {
+            idx,
+            parent: (0..idx.len()).collect(),
+            extra: HashMap::default(),
+        }
+    }
+
+    fn node(&mut self, global: usize) -> usize {
+        match self.idx.binary_search(&global) {
+            Ok(k) => k,
+            Err(_) => {
+                let next = self.parent.len();
+                let k = *self.extra.entry(global).or_insert(next);
+                if k == next {
+                    self.parent.push(next);
+                }
+                k
+            }
+        }
+    }
+
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+
+    fn find_global(&mut self, global: usize) -> usize {
+        let k = self.node(global);
+        self.find(k)
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (ka, kb) = (self.node(a), self.node(b));
+        let (ra, rb) = (self.find(ka), self.find(kb));
+        if ra != rb {
+            // Keep the root with the smallest global index (extra nodes rank by it too).
+            let g = |s: &Self, k: usize| {
+                if k < s.idx.len() {
+                    s.idx[k]
+                } else {
+                    *s.extra
+                        .iter()
+                        .find(|(_, v)| **v == k)
+                        .expect("BUG: extra node")
+                        .0
+                }
+            };
+            let (lo, hi) = if g(self, ra) < g(self, rb) {
+                (ra, rb)
+            } else {
+                (rb, ra)
+            };
+            self.parent[hi] = lo;
+        }
+    }
 }
