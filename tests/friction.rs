@@ -26,8 +26,13 @@ fn run(text: &str) -> RunOutput {
 }
 
 /// One 0.8 mm steel shot 0.1 mm above the specimen moving at (vt, 0, -vn); no jet, no
-/// gravity; the run ends long after the rebound.
+/// gravity; the run ends long after the rebound. `friction` goes before the
+/// `[effects]` table, `switches` into it.
 fn plane(vt: f64, vn: f64, friction: &str) -> RunOutput {
+    plane_with(vt, vn, friction, "")
+}
+
+fn plane_with(vt: f64, vn: f64, friction: &str, switches: &str) -> RunOutput {
     run(&format!(
         r#"duration_ms = 0.1
 gravity_m_s2 = 0.0
@@ -43,6 +48,7 @@ velocity_m_s = [{vt}, 0.0, {}]
 drag = false
 lateral_force = false
 nozzle_wall_contact = false
+{switches}
 "#,
         -vn
     ))
@@ -128,23 +134,12 @@ fn sliding_regime_is_exact_coulomb() {
 fn friction_off_gives_the_frictionless_results_exactly() {
     let reference = plane(25.0, 10.0, "");
     // Coefficients given but the effect switched off: nothing changes, no work done.
-    let off = run(r#"duration_ms = 0.1
-gravity_m_s2 = 0.0
-[shots]
-diameter_mm = 0.8
-[shots.feed]
-type = "list"
-[[shots.feed.shots]]
-position_mm = [0.0, 0.0, 0.5]
-velocity_m_s = [25.0, 0.0, -10.0]
-[friction]
-shot_specimen = 0.3
-[effects]
-drag = false
-lateral_force = false
-nozzle_wall_contact = false
-friction = false
-"#);
+    let off = plane_with(
+        25.0,
+        10.0,
+        "[friction]\nshot_specimen = 0.3",
+        "friction = false",
+    );
     assert_eq!(reference.impacts, off.impacts);
     assert_eq!(reference.shots, off.shots);
     assert_eq!(off.work.friction_calls, 0);
@@ -152,21 +147,7 @@ friction = false
     assert_eq!(off.shots[0].omega, Vec3::zeros());
     // Friction on with mu = 0: spin is integrated but nothing torques it; the states
     // equal the frictionless run bit for bit.
-    let zero = run(r#"duration_ms = 0.1
-gravity_m_s2 = 0.0
-[shots]
-diameter_mm = 0.8
-[shots.feed]
-type = "list"
-[[shots.feed.shots]]
-position_mm = [0.0, 0.0, 0.5]
-velocity_m_s = [25.0, 0.0, -10.0]
-[effects]
-drag = false
-lateral_force = false
-nozzle_wall_contact = false
-friction = true
-"#);
+    let zero = plane_with(25.0, 10.0, "", "friction = true");
     assert!(zero.work.friction_calls > 0);
     assert_eq!(zero.shots[0].pos, reference.shots[0].pos);
     assert_eq!(zero.shots[0].vel, reference.shots[0].vel);
