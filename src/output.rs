@@ -178,7 +178,7 @@ pub fn impacts_csv(impacts: &[Impact], path: &Path) -> Result<Vec<u8>, OutputErr
 pub const IMPACT_HEADER: &str = "shot,time_s,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,normal_speed_m_s,angle_deg,diameter_m,first_hit,tangential_speed_m_s,center_x_m,center_y_m,center_z_m,mass_kg,kinetic_energy_j,collisions_before,omega_x_rad_s,omega_y_rad_s,omega_z_rad_s\n";
 
 /// Header of shots.csv (written alone when a run has no shot).
-pub const SHOT_HEADER: &str = "shot,status,t_start_s,t_stop_s,hits,collisions,wall_contacts,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,diameter_m,steps,steps_to_first_contact,first_contact_steps\n";
+pub const SHOT_HEADER: &str = "shot,status,t_start_s,t_stop_s,hits,collisions,wall_contacts,x_m,y_m,z_m,vx_m_s,vy_m_s,vz_m_s,speed_m_s,diameter_m,steps,steps_to_first_contact,first_contact_steps,omega_x_rad_s,omega_y_rad_s,omega_z_rad_s\n";
 
 /// One row of shots.csv: a shot's final state and history.
 #[derive(Debug, Serialize)]
@@ -219,6 +219,12 @@ pub struct ShotRow {
     pub steps_to_first_contact: Option<u64>,
     /// Steps during the first specimen contact.
     pub first_contact_steps: u64,
+    /// Final angular velocity x, rad/s (0 without the friction effect).
+    pub omega_x_rad_s: f64,
+    /// Final angular velocity y, rad/s.
+    pub omega_y_rad_s: f64,
+    /// Final angular velocity z, rad/s.
+    pub omega_z_rad_s: f64,
 }
 
 impl From<&ShotState> for ShotRow {
@@ -242,6 +248,9 @@ impl From<&ShotState> for ShotRow {
             steps: s.steps,
             steps_to_first_contact: s.steps_to_first_contact,
             first_contact_steps: s.first_contact_steps,
+            omega_x_rad_s: s.omega.x,
+            omega_y_rad_s: s.omega.y,
+            omega_z_rad_s: s.omega.z,
         }
     }
 }

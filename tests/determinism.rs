@@ -51,5 +51,18 @@ fn friction_and_sieve_sizes_are_deterministic_across_thread_counts() {
         }
         assert!(outputs[0].len() > 500, "{scene}");
         assert!(outputs[0] == outputs[1], "{scene}: 1 and 2 threads differ");
+        if scene == "friction_spin.toml" {
+            // Spin reaches the outputs: final omega per shot in shots.csv.
+            let shots = fs::read_to_string(tmp.path().join(format!("{scene}-1")).join("shots.csv"))
+                .unwrap();
+            let header: Vec<&str> = shots.lines().next().unwrap().split(',').collect();
+            let k = header.iter().position(|h| *h == "omega_y_rad_s").unwrap();
+            assert!(
+                shots
+                    .lines()
+                    .skip(1)
+                    .any(|l| l.split(',').nth(k).unwrap().parse::<f64>().unwrap() != 0.0)
+            );
+        }
     }
 }

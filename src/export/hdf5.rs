@@ -225,6 +225,24 @@ fn shot_columns(v: &[&ShotState]) -> Vec<Column> {
         F64("vy_m_s", "m/s", "final velocity y", f(|s| s.vel.y)),
         F64("vz_m_s", "m/s", "final velocity z", f(|s| s.vel.z)),
         F64("diameter_m", "m", "diameter", f(|s| 2.0 * s.body.radius)),
+        F64(
+            "omega_x_rad_s",
+            "rad/s",
+            "final angular velocity x (0 without the friction effect)",
+            f(|s| s.omega.x),
+        ),
+        F64(
+            "omega_y_rad_s",
+            "rad/s",
+            "final angular velocity y",
+            f(|s| s.omega.y),
+        ),
+        F64(
+            "omega_z_rad_s",
+            "rad/s",
+            "final angular velocity z",
+            f(|s| s.omega.z),
+        ),
     ]
 }
 
