@@ -39,6 +39,17 @@ pub struct WorkCounters {
     pub friction_calls: u64,
     /// Turbulent eddies drawn.
     pub eddies: u64,
+    /// Event scheduler: free-flight events handled (entries, cell crossings, exits).
+    pub flight_events: u64,
+    /// Event scheduler: cluster resolutions (a contact and the shots near it, integrated
+    /// together), counting continued chunks.
+    pub clusters: u64,
+    /// Event scheduler: cluster resolutions redone because a shot left outside came
+    /// within contact.
+    pub cluster_redos: u64,
+    /// Event scheduler: contacts found already overlapping when their cluster started
+    /// (should stay zero; reported so a user can see it).
+    pub late_contacts: u64,
 }
 
 impl WorkCounters {
@@ -60,5 +71,9 @@ impl WorkCounters {
         self.contact_onsets += other.contact_onsets;
         self.friction_calls += other.friction_calls;
         self.eddies += other.eddies;
+        self.flight_events += other.flight_events;
+        self.clusters += other.clusters;
+        self.cluster_redos += other.cluster_redos;
+        self.late_contacts += other.late_contacts;
     }
 }

@@ -12,6 +12,7 @@ pub mod cli;
 pub mod contact;
 pub mod counters;
 pub mod coverage;
+pub mod events;
 pub mod export;
 pub mod feed;
 pub mod flow;

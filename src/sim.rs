@@ -34,6 +34,31 @@ const MIN_WINDOW: f64 = 1e-8;
 /// Largest island the window length tries to keep (see `Simulation::window`).
 const MAX_ISLAND: usize = 32;
 
+/// How a run schedules its shots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Scheduler {
+    /// Events when the scene allows them (ballistic free flight, no snapshots), else
+    /// windows.
+    #[default]
+    Auto,
+    /// Synchronisation windows with islands (any scene; parallel across islands).
+    Windows,
+    /// The event scheduler (`crate::events`): free flight in closed form, contacts
+    /// resolved one cluster at a time. Scenes without air forces and nozzle wall only.
+    Events,
+}
+
+impl Scheduler {
+    /// The name used in scene files and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheduler::Auto => "auto",
+            Scheduler::Windows => "windows",
+            Scheduler::Events => "events",
+        }
+    }
+}
+
 /// Builds the stages a scene calls for, and nothing else.
 pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
     let drag_law = DragModel {
@@ -244,6 +269,9 @@ pub struct RunOutput {
     pub end_time: f64,
     /// Snapshots `(time, shots)` at the requested interval (empty when not asked for).
     pub snapshots: Vec<(f64, Vec<SnapshotPoint>)>,
+    /// The scheduler that ran (`windows`, `events`, or `independent` without shot-shot
+    /// contact).
+    pub scheduler: &'static str,
 }
 
 /// A run in progress.
@@ -272,14 +300,51 @@ pub struct Simulation {
     /// Per-shot reach and kicked flags, reused across windows (entries of `live` only).
     reach_buf: Vec<f64>,
     kicked_buf: Vec<bool>,
+    scheduler: Scheduler,
 }
 
 impl Simulation {
     /// A run of `scene` with its resolved `effects`.
     pub fn new(scene: &Scene, effects: &Effects) -> Result<Self, SceneError> {
         let physics = build_physics(scene, effects);
+        let scheduler = scene.integrator.scheduler;
+        if scheduler == Scheduler::Events
+            && let Some(why) = crate::events::unsuitable(&physics)
+        {
+            return Err(SceneError::Invalid {
+                path: scene.path.clone(),
+                key: "integrator.scheduler".into(),
+                message: format!(
+                    "\"events\" needs ballistic free flight, but {why}; use \"auto\" or \"windows\""
+                ),
+            });
+        }
         let shots = crate::feed::initial_shots(scene)?;
-        Ok(Simulation::from_parts(physics, shots, scene.duration))
+        Ok(Simulation::from_parts(physics, shots, scene.duration).with_scheduler(scheduler))
+    }
+
+    /// Chooses the scheduler (default [`Scheduler::Auto`]: events for ballistic scenes
+    /// whose shots do not start in contact, else windows). [`Scheduler::Events`] on
+    /// physics it does not suit, or with snapshots, falls back to windows (scene files
+    /// asking for it on unsuitable physics are refused by [`Simulation::new`]).
+    pub fn with_scheduler(mut self, scheduler: Scheduler) -> Self {
+        self.scheduler = scheduler;
+        self
+    }
+
+    /// The scheduler a run will use.
+    pub fn scheduler_in_use(&self) -> &'static str {
+        if self.physics.contacts.pair.is_none() {
+            "independent"
+        } else if self.snapshot_interval.is_none()
+            && crate::events::unsuitable(&self.physics).is_none()
+            && (self.scheduler == Scheduler::Events
+                || (self.scheduler == Scheduler::Auto && !self.starts_packed()))
+        {
+            "events"
+        } else {
+            "windows"
+        }
     }
 
     /// A run from explicit stages and shots (for tests and library users).
@@ -303,6 +368,7 @@ impl Simulation {
             live: Vec::new(),
             reach_buf: vec![0.0; n],
             kicked_buf: vec![false; n],
+            scheduler: Scheduler::Auto,
             physics,
             shots,
             pairs: HashMap::default(),
@@ -318,6 +384,22 @@ impl Simulation {
             snapshot_points: Vec::new(),
             last_window: f64::INFINITY,
         }
+    }
+
+    /// Whether shots start in contact with each other or the specimen (a bed, a pile):
+    /// persistent contacts are better served by windows, so `auto` picks them.
+    fn starts_packed(&self) -> bool {
+        let specimen = self.physics.contacts.specimen.is_some();
+        if specimen && self.shots.iter().any(|s| s.pos.z <= s.body.radius) {
+            return true;
+        }
+        let centres: Vec<Vec3> = self.shots.iter().map(|s| s.pos).collect();
+        let radii: Vec<f64> = self
+            .shots
+            .iter()
+            .map(|s| s.body.radius * (1.0 + 1e-6))
+            .collect();
+        !CellList::default().pairs(&centres, &radii).is_empty()
     }
 
     /// Records shot positions every `interval` seconds (for ParaView series).
@@ -345,8 +427,12 @@ impl Simulation {
 
     /// Runs to the end. `progress` receives the finished fraction (0 to 1).
     pub fn run(mut self, progress: &(dyn Fn(f64) + Sync)) -> RunOutput {
-        if self.physics.contacts.pair.is_none() {
+        let scheduler = self.scheduler_in_use();
+        if scheduler == "independent" {
             self.run_independent(progress);
+        } else if scheduler == "events" {
+            let out = crate::events::run(&self.physics, &mut self.shots, self.end, progress);
+            self.commit_output(out);
         } else {
             while self.t < self.end {
                 let now = self.t;
@@ -377,6 +463,7 @@ impl Simulation {
             windows: self.windows,
             window_redos: self.window_redos,
             end_time: self.end,
+            scheduler,
         }
     }
 

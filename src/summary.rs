@@ -211,6 +211,9 @@ pub struct Summary {
     pub contacts: ContactReport,
     /// Work counters per stage and effect.
     pub work: WorkCounters,
+    /// Scheduler that ran: `windows`, `events` (ballistic scenes) or `independent` (no
+    /// shot-shot contact).
+    pub scheduler: String,
     /// Synchronisation windows.
     pub windows: u64,
     /// Windows re-run after an unpaired overlap.
@@ -297,6 +300,7 @@ impl Summary {
                 shot_wall: out.shots.iter().map(|s| s.wall_contacts as u64).sum(),
             },
             work: out.work,
+            scheduler: out.scheduler.to_string(),
             windows: out.windows,
             window_redos: out.window_redos,
             events: out.events.clone(),
@@ -382,13 +386,15 @@ impl Summary {
         }
         let _ = writeln!(
             s,
-            "work: {} steps ({} rejected), {} shot-steps, {} shot-shot and {} wall contacts, {} windows; wall time {:.3} s on {} threads",
+            "work: {} steps ({} rejected), {} shot-steps, {} shot-shot and {} wall contacts, {} scheduler ({} windows, {} clusters); wall time {:.3} s on {} threads",
             self.steps.accepted,
             self.steps.rejected,
             self.steps.shot_steps,
             self.contacts.shot_shot,
             self.contacts.shot_wall,
+            self.scheduler,
             self.windows,
+            self.work.clusters,
             self.wall_time_s,
             self.threads
         );

@@ -985,6 +985,58 @@ pub fn advance_observed(
         advance_verlet(phys, members, pairs, t0, t1, step, scratch, out, observer);
         return;
     }
+    advance_adaptive(phys, members, pairs, t0, t1, None, scratch, out, observer);
+}
+
+/// Whether any member is in contact (with the specimen, the wall or another member).
+pub fn in_contact(members: &[ShotState], pairs: &[IslandPair]) -> bool {
+    members
+        .iter()
+        .any(|m| m.is_active() && (m.on_specimen || m.on_wall))
+        || pairs.iter().any(|p| p.touching)
+}
+
+/// [`advance_observed`] with the adaptive method, stopping early at the end of the first
+/// accepted step at or after `apart_after` at which no contact is in progress: the
+/// event scheduler (`crate::events`) resolves a collision with it and hands the shots
+/// back to free flight. Returns the time reached (`t1` if contacts last that long).
+#[allow(clippy::too_many_arguments)]
+pub fn advance_until_apart(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    t0: f64,
+    t1: f64,
+    apart_after: f64,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    observer: &mut dyn FnMut(f64, &[f64]),
+) -> f64 {
+    advance_adaptive(
+        phys,
+        members,
+        pairs,
+        t0,
+        t1,
+        Some(apart_after),
+        scratch,
+        out,
+        observer,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn advance_adaptive(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    t0: f64,
+    t1: f64,
+    apart_after: Option<f64>,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    observer: &mut dyn FnMut(f64, &[f64]),
+) -> f64 {
     let ctx = Ctx {
         phys,
         onsets_located: true,
@@ -1178,12 +1230,16 @@ pub fn advance_observed(
             Some(true) => dopri.invalidate(),
             Some(false) => {}
         }
+        if apart_after.is_some_and(|ta| t >= ta) && !in_contact(members, pairs) {
+            break;
+        }
     }
     store_state(members, y);
     for m in members.iter_mut().filter(|m| m.is_active()) {
         m.h_next = h_next;
     }
     out.work.add(&work);
+    t
 }
 
 fn fail_island(

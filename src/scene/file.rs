@@ -416,6 +416,8 @@ pub struct IntegratorFile {
     pub method: String,
     /// The fixed step of `method = "verlet"`, ns.
     pub fixed_step_ns: Option<f64>,
+    /// `"auto"` (default), `"windows"` or `"events"`: how shots are scheduled.
+    pub scheduler: String,
 }
 
 impl Default for IntegratorFile {
@@ -426,6 +428,7 @@ impl Default for IntegratorFile {
             max_step_ms: 0.5,
             method: "adaptive".into(),
             fixed_step_ns: None,
+            scheduler: "auto".into(),
         }
     }
 }

@@ -385,6 +385,8 @@ pub struct IntegratorSettings {
     pub max_step: f64,
     /// Integration method.
     pub method: crate::integrate::island::Method,
+    /// How shots are scheduled (synchronisation windows or events).
+    pub scheduler: crate::sim::Scheduler,
 }
 
 /// A checked scene in SI units.

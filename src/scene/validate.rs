@@ -897,8 +897,22 @@ impl SceneFile {
                 ));
             }
         };
+        let scheduler = match it.scheduler.as_str() {
+            "auto" => crate::sim::Scheduler::Auto,
+            "windows" => crate::sim::Scheduler::Windows,
+            "events" => crate::sim::Scheduler::Events,
+            other => {
+                return Err(c.invalid(
+                    "integrator.scheduler",
+                    format!(
+                        "unknown value \"{other}\"; allowed: \"auto\", \"windows\", \"events\""
+                    ),
+                ));
+            }
+        };
         let integrator = IntegratorSettings {
             method,
+            scheduler,
             tolerance: c.range(
                 "integrator.tolerance",
                 it.tolerance,

@@ -446,6 +446,7 @@ fn write_case(
         window_redos: 0,
         end_time: 0.0,
         snapshots: Vec::new(),
+        scheduler: runs.first().map_or("windows", |r| r.1.scheduler),
     };
     let mut impact_seeds = Vec::new();
     let mut shot_seeds = Vec::new();

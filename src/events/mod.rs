@@ -1,0 +1,1157 @@
+//! Event scheduler: the fast path for scenes whose free flight is ballistic (no air
+//! forces, no nozzle wall; gravity optional), such as LIGGGHTS' falling pack.
+//!
+//! ```text
+//! free shots fly in closed form (flight.rs); a priority queue holds, per free shot, the
+//! times at which it enters, touches another free shot or the specimen, leaves the domain
+//! or crosses a cell of the persistent grid (grid.rs)
+//! pop the earliest event:
+//!   cell crossing: move the shot, predict touches with the shots of the new cell layer
+//!   touch (shot-shot or shot-specimen): a cluster = the shots involved, plus every shot
+//!     that may come within contact while the contact lasts; the cluster is integrated by
+//!     the island integrator (integrate::island::advance_until_apart) from just before
+//!     the touch until no contact is left, then its shots fly free again
+//! ```
+//!
+//! Free flight costs no steps at all: a shot pays integrator steps only while in contact,
+//! where its steps are the island integrator's (same contact law, onset location, impact
+//! record and accuracy controls as the window scheduler in `sim.rs`).
+//!
+//! **Look-ahead and its guards.** A cluster is integrated ahead of the queue's time (to
+//! the end of its contact), so a shot outside it must not reach it meanwhile:
+//! * shots whose free path comes within contact distance (plus 10 %) of a member's free
+//!   path during the chunk join the cluster (closure over the new members);
+//! * after integration, the members' actual paths are compared with the free paths of
+//!   the shots left outside; an overlap means the cluster is redone with that shot
+//!   (`cluster_redos`);
+//! * a nearby shot with a pending touch of its own before the chunk ends (its path is
+//!   about to change) cuts the chunk there (or joins, if that is imminent); shots already
+//!   resolved further ahead, and shots of other clusters in progress, join if they are
+//!   within the speed bound (they stay frozen until their own clock);
+//! * a contact found overlapping when its cluster starts is counted in `late_contacts`
+//!   (reported in summary.json; zero in the benchmarks and tests).
+//!
+//! A cluster still in contact after its chunk (a shot resting on the specimen, a
+//! persistent clump) continues with chunks doubling up to 0.1 ms; members not in contact
+//! are released to free flight. Processing is sequential and ordered by (time, kind,
+//! shots): results do not depend on the thread count.
+
+pub mod flight;
+pub mod grid;
+
+use crate::Vec3;
+use crate::contact::broad::CellList;
+use crate::contact::{PairContact, effective_mass, hertz};
+use crate::integrate::island::{self, IslandOutput, IslandPair, Method, Physics, Scratch};
+use crate::state::{ShotState, ShotStatus};
+use flight::{Flight, closest_approach, pair_touch};
+use grid::Grid;
+use rustc_hash::FxHashMap as HashMap;
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+
+const NONE: u32 = u32::MAX;
+/// Longest cluster chunk, s.
+const MAX_CHUNK: f64 = 1e-4;
+/// Redos of one cluster chunk before its result is accepted as it is.
+const MAX_REDOS: u32 = 8;
+/// Free paths closer than contact distance times (1 + this) join a cluster.
+const SLACK: f64 = 0.1;
+/// Floor (m/s) of the closing speed used to estimate a contact's duration.
+const MIN_CONTACT_SPEED: f64 = 0.01;
+/// Clusters larger than this find their pairs with a cell list instead of all pairs.
+const ALL_PAIRS_UP_TO: usize = 48;
+
+/// Why a scene cannot use the event scheduler (`None`: it can).
+pub fn unsuitable(phys: &Physics) -> Option<&'static str> {
+    if phys.forces.field.is_some() || phys.forces.drag.is_some() || phys.forces.lateral.is_some() {
+        return Some(
+            "the air jet acts on the shots (drag or lateral force on): free flight is not ballistic",
+        );
+    }
+    if phys.forces.turbulence.is_some() {
+        return Some("turbulent dispersion is on");
+    }
+    if phys.contacts.wall.is_some() {
+        return Some("nozzle wall contact is on");
+    }
+    if phys.forces.gravity.is_some_and(|g| {
+        g.acceleration.x != 0.0 || g.acceleration.y != 0.0 || g.acceleration.z > 0.0
+    }) {
+        return Some("gravity does not point down (-z)");
+    }
+    if !matches!(phys.method, Method::Adaptive) {
+        return Some("the velocity-Verlet baseline steps every shot on a global clock");
+    }
+    None
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Kind {
+    Enter,
+    Leave,
+    Floor,
+    Touch,
+    Cross,
+    Continue,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Ev {
+    t: f64,
+    kind: Kind,
+    a: u32,
+    b: u32,
+    va: u32,
+    vb: u32,
+}
+
+impl Ord for Ev {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.t
+            .total_cmp(&o.t)
+            .then(self.kind.cmp(&o.kind))
+            .then(self.a.cmp(&o.a))
+            .then(self.b.cmp(&o.b))
+            .then(self.va.cmp(&o.va))
+            .then(self.vb.cmp(&o.vb))
+    }
+}
+impl PartialOrd for Ev {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl PartialEq for Ev {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Ev {}
+
+/// Contact state of a touching pair carried between chunks of a cluster.
+#[derive(Debug, Clone, Copy)]
+struct PairState {
+    contact_time: f64,
+    onset: f64,
+}
+
+#[derive(Debug, Clone)]
+struct Cluster {
+    /// Member shot indices.
+    members: Vec<usize>,
+    /// Touching pairs (global ids, ascending).
+    pairs: HashMap<(u32, u32), PairState>,
+    /// Time the chunk starts.
+    clock: f64,
+    /// Hertz duration of the contact that started it, s.
+    tc: f64,
+    /// Chunks run so far.
+    chunks: u32,
+    /// Do not stop before this time (a touch predicted at `t` happens just after it).
+    apart_after: f64,
+    /// Onset of the contact that opened the cluster (a continued chunk: its start).
+    onset: f64,
+    /// Generation (stale `Continue` events carry an older one).
+    gen_: u32,
+}
+
+/// What integrating one cluster chunk produced (on copies of the members).
+struct Chunk {
+    /// Time each member reached (its group stopped once apart).
+    t_end: Vec<f64>,
+    /// The members' states.
+    copies: Vec<ShotState>,
+    /// The island pairs (member indices), with their contact states.
+    pairs: Vec<IslandPair>,
+    /// Impacts, run events, work.
+    out: IslandOutput,
+    /// A shot left outside that came within contact of a member.
+    violator: Option<usize>,
+    /// Member pairs overlapping at the end without having been paired (global ids).
+    missed: Vec<(u32, u32)>,
+}
+
+/// The scheduler's state.
+struct Engine<'a> {
+    phys: &'a Physics,
+    flight: Flight,
+    end: f64,
+    shots: &'a mut [ShotState],
+    /// Time at which `shots[i].pos / vel` hold.
+    t_ref: Vec<f64>,
+    ver: Vec<u32>,
+    /// Cluster slot of a shot in a cluster in progress, else `NONE`.
+    owner: Vec<u32>,
+    /// Entered, active and in the grid.
+    present: Vec<bool>,
+    /// Earliest pending event that changes the shot's path (touch), s.
+    next_change: Vec<f64>,
+    /// Membership stamps for cluster gathering.
+    mark: Vec<u64>,
+    /// A member's index in the cluster being integrated.
+    local: Vec<u32>,
+    stamp: u64,
+    grid: Grid,
+    queue: BinaryHeap<Reverse<Ev>>,
+    clusters: Vec<Option<Cluster>>,
+    free_slots: Vec<usize>,
+    v_max: f64,
+    r_max: f64,
+    t_now: f64,
+    /// Source of cluster generations (unique across slots, so a reused slot never
+    /// matches a stale `Continue`).
+    next_gen: u32,
+    out: IslandOutput,
+    scratch: Scratch,
+    cells: CellList,
+    buf: Vec<usize>,
+}
+
+/// Runs `shots` from 0 to `end` with the event scheduler (see the module docs); returns
+/// the impacts, run events and work counters. `progress` gets the finished fraction.
+pub fn run(
+    phys: &Physics,
+    shots: &mut [ShotState],
+    end: f64,
+    progress: &(dyn Fn(f64) + Sync),
+) -> IslandOutput {
+    let mut eng = Engine::new(phys, shots, end);
+    eng.run(progress);
+    eng.out
+}
+
+impl<'a> Engine<'a> {
+    fn new(phys: &'a Physics, shots: &'a mut [ShotState], end: f64) -> Self {
+        let n = shots.len();
+        let g = phys.forces.gravity.map_or(0.0, |g| -g.acceleration.z);
+        let r_max = shots
+            .iter()
+            .map(|s| s.body.radius)
+            .fold(0.0, f64::max)
+            .max(1e-9);
+        let v_max = shots.iter().map(|s| s.vel.norm()).fold(0.0, f64::max);
+        // The grid's box: where the shots start, widened by how far they can fly, within
+        // the domain (outer cells reach to infinity anyway).
+        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for s in shots.iter() {
+            lo = lo.inf(&s.pos);
+            hi = hi.sup(&s.pos);
+        }
+        if n == 0 {
+            lo = Vec3::zeros();
+            hi = Vec3::zeros();
+        }
+        let margin = (v_max + g * end) * end + 2.0 * r_max;
+        let d = &phys.domain;
+        lo = (lo - Vec3::repeat(margin)).sup(&Vec3::new(-d.radius, -d.radius, f64::NEG_INFINITY));
+        hi = (hi + Vec3::repeat(margin)).inf(&Vec3::new(d.radius, d.radius, d.top));
+        if phys.contacts.specimen.is_some() {
+            lo.z = lo.z.max(-r_max);
+        }
+        let hi = hi.sup(&(lo + Vec3::repeat(2.0 * r_max)));
+        let max_cells = (8 * n).clamp(1 << 16, 1 << 23);
+        let grid = Grid::new(lo, hi, 2.0 * r_max * 1.05, n, max_cells);
+        Engine {
+            phys,
+            flight: Flight { g },
+            end,
+            t_ref: shots.iter().map(|s| s.t_start.max(0.0)).collect(),
+            ver: vec![0; n],
+            owner: vec![NONE; n],
+            present: vec![false; n],
+            next_change: vec![f64::INFINITY; n],
+            mark: vec![0; n],
+            local: vec![0; n],
+            stamp: 0,
+            grid,
+            queue: BinaryHeap::new(),
+            clusters: Vec::new(),
+            free_slots: Vec::new(),
+            v_max,
+            r_max,
+            t_now: 0.0,
+            next_gen: 0,
+            out: IslandOutput::default(),
+            scratch: Scratch::default(),
+            cells: CellList::default(),
+            buf: Vec::new(),
+            shots,
+        }
+    }
+
+    fn push(&mut self, t: f64, kind: Kind, a: usize, b: usize) {
+        let (va, vb) = (
+            self.ver[a],
+            if kind == Kind::Touch { self.ver[b] } else { 0 },
+        );
+        self.queue.push(Reverse(Ev {
+            t,
+            kind,
+            a: a as u32,
+            b: b as u32,
+            va,
+            vb,
+        }));
+    }
+
+    /// Free-flight state of shot `i` at `t` (not before its reference time).
+    #[inline]
+    fn state_at(&self, i: usize, t: f64) -> (Vec3, Vec3) {
+        let s = &self.shots[i];
+        self.flight.at(&s.pos, &s.vel, (t - self.t_ref[i]).max(0.0))
+    }
+
+    /// Upper bound of any shot's speed until the end.
+    fn v_bound(&self) -> f64 {
+        self.v_max + self.flight.g * self.end + 1e-6
+    }
+
+    fn run(&mut self, progress: &(dyn Fn(f64) + Sync)) {
+        let n = self.shots.len();
+        for i in 0..n {
+            if !self.shots[i].is_active() {
+                continue;
+            }
+            if self.shots[i].t_start <= 0.0 {
+                self.enter(i);
+            } else if self.shots[i].t_start <= self.end {
+                self.push(self.shots[i].t_start, Kind::Enter, i, i);
+            }
+        }
+        for i in 0..n {
+            if self.present[i] {
+                self.predict(i);
+            }
+        }
+        let mut handled = 0u64;
+        while let Some(Reverse(ev)) = self.queue.pop() {
+            if ev.t > self.end {
+                break;
+            }
+            self.t_now = ev.t;
+            handled += 1;
+            if handled.is_multiple_of(1 << 14) {
+                progress(self.t_now / self.end);
+            }
+            let (a, b) = (ev.a as usize, ev.b as usize);
+            let free_valid =
+                |e: &Self, i: usize, v: u32| e.present[i] && e.owner[i] == NONE && e.ver[i] == v;
+            match ev.kind {
+                Kind::Enter => {
+                    if self.shots[a].is_active() && !self.present[a] {
+                        self.out.work.flight_events += 1;
+                        self.enter(a);
+                        self.predict(a);
+                    }
+                }
+                Kind::Leave => {
+                    if free_valid(self, a, ev.va) {
+                        self.out.work.flight_events += 1;
+                        let (p, v) = self.state_at(a, ev.t);
+                        let s = &mut self.shots[a];
+                        s.pos = p;
+                        s.vel = v;
+                        s.status = ShotStatus::LeftDomain;
+                        s.t_stop = Some(ev.t);
+                        self.t_ref[a] = ev.t;
+                        self.ver[a] += 1;
+                        self.present[a] = false;
+                        self.grid.remove(a);
+                    }
+                }
+                Kind::Cross => {
+                    if free_valid(self, a, ev.va) {
+                        self.out.work.flight_events += 1;
+                        self.cross(a, b);
+                    }
+                }
+                Kind::Floor => {
+                    if free_valid(self, a, ev.va) {
+                        self.start_cluster(&[a], ev.t);
+                    }
+                }
+                Kind::Touch => {
+                    if free_valid(self, a, ev.va) && free_valid(self, b, ev.vb) {
+                        self.start_cluster(&[a, b], ev.t);
+                    }
+                }
+                Kind::Continue => {
+                    if self.clusters[a].as_ref().is_some_and(|c| c.gen_ == ev.va) {
+                        self.resolve(a);
+                    }
+                }
+            }
+        }
+        // Free shots fly to the end.
+        self.t_now = self.end;
+        for i in 0..n {
+            if self.present[i] && self.owner[i] == NONE && self.t_ref[i] < self.end {
+                let (p, v) = self.state_at(i, self.end);
+                self.shots[i].pos = p;
+                self.shots[i].vel = v;
+                self.t_ref[i] = self.end;
+            }
+        }
+        progress(1.0);
+    }
+
+    fn enter(&mut self, i: usize) {
+        self.present[i] = true;
+        self.t_ref[i] = self.shots[i].t_start.max(0.0);
+        let c = self.grid.cell_of(&self.shots[i].pos);
+        self.grid.place(i, c);
+    }
+
+    /// Predicts every event of free shot `i` from its reference state.
+    fn predict(&mut self, i: usize) {
+        self.next_change[i] = f64::INFINITY;
+        let mut nb = std::mem::take(&mut self.buf);
+        nb.clear();
+        self.grid.for_each_near(self.grid.at[i], |j| nb.push(j));
+        for &j in &nb {
+            if j != i && self.present[j] && self.owner[j] == NONE {
+                self.predict_pair(i, j);
+            }
+        }
+        self.buf = nb;
+        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (p, v, r) = (s.pos, s.vel, s.body.radius);
+        if self.phys.contacts.specimen.is_some()
+            && let Some(tau) = self.flight.down_through(p.z, v.z, r)
+            && t + tau <= self.end
+        {
+            self.push(t + tau, Kind::Floor, i, i);
+            self.next_change[i] = self.next_change[i].min(t + tau);
+        }
+        let d = self.phys.domain;
+        let leave = [
+            self.flight.up_through(p.z, v.z, d.top),
+            Flight::out_of_radius(&p, &v, d.radius),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(f64::INFINITY, f64::min);
+        if t + leave <= self.end {
+            self.push(t + leave, Kind::Leave, i, i);
+        }
+        self.schedule_cross(i);
+    }
+
+    fn predict_pair(&mut self, i: usize, j: usize) {
+        let t0 = self.t_ref[i].max(self.t_ref[j]);
+        let (pi, vi) = self.state_at(i, t0);
+        let (pj, vj) = self.state_at(j, t0);
+        let sigma = self.shots[i].body.radius + self.shots[j].body.radius;
+        let dx = pj - pi;
+        let touch = if dx.norm_squared() < sigma * sigma {
+            // Overlapping free shots: a contact was missed. Count it, and let a cluster
+            // push them apart now rather than letting them pass through each other.
+            self.out.work.late_contacts += 1;
+            Some(0.0)
+        } else {
+            pair_touch(&dx, &(vj - vi), sigma)
+        };
+        if let Some(tau) = touch {
+            let t = t0 + tau;
+            if t <= self.end {
+                let (a, b) = (i.min(j), i.max(j));
+                self.push(t, Kind::Touch, a, b);
+                self.next_change[i] = self.next_change[i].min(t);
+                self.next_change[j] = self.next_change[j].min(t);
+            }
+        }
+    }
+
+    /// The next cell face free shot `i` crosses (event `b` = axis * 2 + upwards).
+    fn schedule_cross(&mut self, i: usize) {
+        let c = self.grid.at[i];
+        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (p, v) = (s.pos, s.vel);
+        let mut best = (f64::INFINITY, 0usize);
+        for axis in 0..3 {
+            let (lo, hi) = self.grid.faces(&c, axis);
+            let (down, up) = if axis == 2 {
+                (
+                    lo.and_then(|f| self.flight.down_through(p.z, v.z, f)),
+                    hi.and_then(|f| self.flight.up_through(p.z, v.z, f)),
+                )
+            } else {
+                (
+                    lo.filter(|_| v[axis] < 0.0)
+                        .map(|f| ((f - p[axis]) / v[axis]).max(0.0)),
+                    hi.filter(|_| v[axis] > 0.0)
+                        .map(|f| ((f - p[axis]) / v[axis]).max(0.0)),
+                )
+            };
+            if let Some(tau) = down
+                && tau < best.0
+            {
+                best = (tau, 2 * axis);
+            }
+            if let Some(tau) = up
+                && tau < best.0
+            {
+                best = (tau, 2 * axis + 1);
+            }
+        }
+        if t + best.0 <= self.end {
+            self.push(t + best.0, Kind::Cross, i, best.1);
+        }
+    }
+
+    fn cross(&mut self, i: usize, code: usize) {
+        let (axis, up) = (code / 2, code % 2 == 1);
+        let mut c = self.grid.at[i];
+        c[axis] = if up { c[axis] + 1 } else { c[axis] - 1 };
+        self.grid.place(i, c);
+        // Shots that just became neighbours: the layer beyond the new cell.
+        let dims = self.grid.dims();
+        let beyond = if up {
+            (c[axis] + 1 < dims[axis]).then(|| c[axis] + 1)
+        } else {
+            c[axis].checked_sub(1)
+        };
+        if let Some(l) = beyond {
+            let mut lo = c.map(|v| v as i64 - 1);
+            let mut hi = c.map(|v| v as i64 + 1);
+            lo[axis] = l as i64;
+            hi[axis] = l as i64;
+            let mut nb = std::mem::take(&mut self.buf);
+            nb.clear();
+            self.grid.for_each_in(lo, hi, |j| nb.push(j));
+            for &j in &nb {
+                if j != i && self.present[j] && self.owner[j] == NONE {
+                    self.predict_pair(i, j);
+                }
+            }
+            self.buf = nb;
+        }
+        self.schedule_cross(i);
+    }
+
+    /// Opens a cluster for a touch predicted at `t_on` between the free shots `who` (one
+    /// shot: the specimen), starting one contact step before it.
+    fn start_cluster(&mut self, who: &[usize], t_on: f64) {
+        let tc = self.contact_time(who, t_on);
+        let back = tc / self.phys.contact_steps;
+        let s = who
+            .iter()
+            .map(|&i| self.t_ref[i])
+            .fold(t_on - back, f64::max);
+        let slot = self.free_slots.pop().unwrap_or_else(|| {
+            self.clusters.push(None);
+            self.clusters.len() - 1
+        });
+        for &i in who {
+            self.owner[i] = slot as u32;
+            self.ver[i] += 1;
+        }
+        self.clusters[slot] = Some(Cluster {
+            members: who.to_vec(),
+            pairs: HashMap::default(),
+            clock: s,
+            tc,
+            chunks: 0,
+            apart_after: t_on + 2.0 * back,
+            onset: t_on,
+            gen_: 0,
+        });
+        self.resolve(slot);
+    }
+
+    /// Hertz duration of the touch of `who` at `t`.
+    fn contact_time(&self, who: &[usize], t: f64) -> f64 {
+        let c = &self.phys.contacts;
+        match who {
+            [a, b] => {
+                let pc = c
+                    .pair
+                    .as_ref()
+                    .expect("BUG: shot-shot touch without pair contact");
+                let (pa, va) = self.state_at(*a, t);
+                let (pb, vb) = self.state_at(*b, t);
+                let d = pb - pa;
+                let nrm = if d.norm() > 0.0 {
+                    d / d.norm()
+                } else {
+                    Vec3::z()
+                };
+                let (ba, bb) = (self.shots[*a].body, self.shots[*b].body);
+                let k = pc
+                    .law
+                    .stiffness(PairContact::effective_radius(ba.radius, bb.radius));
+                let closing = -(vb - va).dot(&nrm);
+                hertz::contact_time(
+                    effective_mass(ba.mass, bb.mass),
+                    k,
+                    closing.max(MIN_CONTACT_SPEED),
+                )
+            }
+            [a] => {
+                let sp = c
+                    .specimen
+                    .as_ref()
+                    .expect("BUG: floor touch without specimen");
+                let (_, v) = self.state_at(*a, t);
+                let b = self.shots[*a].body;
+                let k = sp.law.stiffness(sp.effective_radius(b.radius));
+                hertz::contact_time(b.mass, k, (-v.z).max(MIN_CONTACT_SPEED))
+            }
+            _ => unreachable!("BUG: a touch involves one or two shots"),
+        }
+    }
+
+    /// Integrates cluster `slot` over its next chunk (see the module docs), then either
+    /// continues it or hands its shots back to free flight.
+    fn resolve(&mut self, slot: usize) {
+        let mut cl = self.clusters[slot]
+            .take()
+            .expect("BUG: resolving an empty cluster slot");
+        self.out.work.clusters += 1;
+        let s = cl.clock;
+        let growth = 2f64.powi(cl.chunks.min(30) as i32);
+        let min_chunk = 0.25 * cl.tc;
+        let mut e = (s + (2.0 * cl.tc * growth).min(MAX_CHUNK).max(cl.tc)).min(self.end);
+        e = e.min(self.speed_cap(&cl.members, s, min_chunk));
+        let vb = self.v_bound();
+        self.stamp += 1;
+        let st = self.stamp;
+        for &m in &cl.members {
+            self.mark[m] = st;
+        }
+        // Free shots left outside but near (shot, member, closest free approach): checked
+        // against the members' actual paths afterwards.
+        let mut near: Vec<(usize, usize, f64)> = Vec::new();
+        let mut scanned = 0;
+        let mut redos = 0;
+        let mut found: Vec<usize> = Vec::new();
+        let mut extra: Vec<(u32, u32)> = Vec::new();
+        loop {
+            // Gather: closure over members not scanned yet.
+            while scanned < cl.members.len() {
+                let m = cl.members[scanned];
+                scanned += 1;
+                let tm = self.t_ref[m].max(s);
+                let (pm, vm) = self.state_at(m, tm);
+                let rm = self.shots[m].body.radius;
+                let reach = rm + self.r_max + 2.0 * vb * (e - s) + SLACK * 2.0 * self.r_max;
+                found.clear();
+                self.grid.for_each_within(&pm, reach, |c| found.push(c));
+                for &c in &found {
+                    if !self.present[c] || self.mark[c] == st {
+                        continue;
+                    }
+                    let sigma = rm + self.shots[c].body.radius;
+                    let tc_ref = self.t_ref[c];
+                    // A shot resolved ahead (its cluster ended, or paused, after `s`) is
+                    // taken on its free path from its own clock; before that, its
+                    // cluster's checks covered the members' free paths. (A shot of a
+                    // paused cluster is in contact: its path will bend, which the
+                    // verification below and that cluster's own checks see.)
+                    let t_a = tm.max(tc_ref);
+                    if t_a >= e {
+                        continue;
+                    }
+                    let (pm_a, vm_a) = self.flight.at(&pm, &vm, t_a - tm);
+                    let (pc, vc) = self.state_at(c, t_a);
+                    let (dx, dv) = (pc - pm_a, vc - vm_a);
+                    // Joins now if it comes near before the member's contact starts (the
+                    // member's free path is exact until then); later meetings, on the
+                    // member's changed path, are found by the verification.
+                    if (t_a <= cl.onset || self.owner[c] != NONE)
+                        && closest_approach(&dx, &dv, (cl.onset - t_a).max(0.0))
+                            < sigma * (1.0 + SLACK)
+                    {
+                        self.join(&mut cl, c, st);
+                        continue;
+                    }
+                    let dmin = closest_approach(&dx, &dv, e - t_a);
+                    let nc = self.next_change[c];
+                    if nc >= self.t_now
+                        && nc < e
+                        && dmin < sigma * (1.0 + SLACK) + 2.0 * vb * (e - nc)
+                    {
+                        // Its path changes before the chunk ends, close by.
+                        if nc < s + min_chunk {
+                            self.join(&mut cl, c, st);
+                            continue;
+                        }
+                        e = nc;
+                    }
+                    if dmin < sigma + 2.0 * vb * (e - s) {
+                        near.push((c, m, dmin));
+                    }
+                }
+            }
+            // Integrate a copy of the members.
+            e = e.min(self.speed_cap(&cl.members, s, min_chunk));
+            let chunk = self.integrate(&cl, s, e, &near, st, &extra);
+            if redos < MAX_REDOS {
+                if let Some(c) = chunk.violator {
+                    redos += 1;
+                    self.out.work.cluster_redos += 1;
+                    self.join(&mut cl, c, st);
+                    continue;
+                }
+                if !chunk.missed.is_empty() {
+                    redos += 1;
+                    self.out.work.cluster_redos += 1;
+                    extra.extend(chunk.missed);
+                    continue;
+                }
+            }
+            self.commit(slot, cl, e, chunk);
+            return;
+        }
+    }
+
+    /// Latest chunk end for `members` starting at `s`: no member may cross more than its
+    /// radius at 1.5 times the fastest member's speed (the island's pair list assumes
+    /// so), but at least `min_chunk / 4`.
+    fn speed_cap(&self, members: &[usize], s: f64, min_chunk: f64) -> f64 {
+        let (mut v, mut r) = (0.0f64, f64::INFINITY);
+        for &m in members {
+            v = v.max(self.shots[m].vel.norm());
+            r = r.min(self.shots[m].body.radius);
+        }
+        s + (r / (1.5 * v + 1e-9)).max(0.25 * min_chunk)
+    }
+
+    /// Adds shot `c` (and, if it belongs to another cluster, that whole cluster) to `cl`.
+    fn join(&mut self, cl: &mut Cluster, c: usize, st: u64) {
+        let oc = self.owner[c];
+        if oc != NONE && self.clusters[oc as usize].is_some() {
+            let other = self.clusters[oc as usize]
+                .take()
+                .expect("BUG: cluster slot vanished");
+            self.free_slots.push(oc as usize);
+            for &m in &other.members {
+                if self.mark[m] != st {
+                    self.mark[m] = st;
+                    cl.members.push(m);
+                }
+            }
+            cl.pairs.extend(other.pairs);
+            cl.tc = cl.tc.max(other.tc);
+        } else if self.mark[c] != st {
+            self.mark[c] = st;
+            cl.members.push(c);
+        }
+    }
+
+    /// Integrates the cluster's members over `[s, e]` on copies.
+    fn integrate(
+        &mut self,
+        cl: &Cluster,
+        s: f64,
+        e: f64,
+        near: &[(usize, usize, f64)],
+        st: u64,
+        extra: &[(u32, u32)],
+    ) -> Chunk {
+        let members = &cl.members;
+        let n = members.len();
+        let mut copies: Vec<ShotState> = Vec::with_capacity(n);
+        let mut starts: Vec<(Vec3, Vec3, f64)> = Vec::with_capacity(n);
+        for &m in members {
+            let mut c = self.shots[m].clone();
+            let tm = self.t_ref[m];
+            if tm <= s {
+                let (p, v) = self.state_at(m, s);
+                c.pos = p;
+                c.vel = v;
+            } else {
+                c.t_start = tm; // frozen until its own clock
+            }
+            starts.push((c.pos, c.vel, tm.max(s)));
+            copies.push(c);
+        }
+        // Energy bound on the speeds inside the cluster.
+        let energy: f64 = copies
+            .iter()
+            .map(|c| {
+                let b = c.body;
+                0.5 * b.mass * c.vel.norm_squared()
+                    + 0.5 * 0.4 * b.mass * b.radius * b.radius * c.omega.norm_squared()
+            })
+            .sum();
+        let m_min = copies
+            .iter()
+            .map(|c| c.body.mass)
+            .fold(f64::INFINITY, f64::min);
+        self.v_max = self.v_max.max((2.0 * energy / m_min).sqrt());
+        // Pairs that can touch during the chunk: reach-inflated radii (1.5 x own speed,
+        // as the window scheduler), plus pairs in contact and pairs a redo added.
+        let span = e - s;
+        let ids: Vec<u32> = copies.iter().map(|c| c.id.0).collect();
+        let key = |i: usize, j: usize| {
+            let (a, b) = (ids[i], ids[j]);
+            (a.min(b), a.max(b))
+        };
+        let g = self.flight.g;
+        let reach: Vec<f64> = copies
+            .iter()
+            .map(|c| {
+                c.body.radius * (1.0 + SLACK) + 1.5 * c.vel.norm() * span + 0.5 * g * span * span
+            })
+            .collect();
+        let centres: Vec<Vec3> = copies.iter().map(|c| c.pos).collect();
+        let mut local: Vec<(u32, u32)> = Vec::new();
+        let index: HashMap<u32, u32> = copies
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (c.id.0, k as u32))
+            .collect();
+        if self.phys.contacts.pair.is_some() {
+            local = self.close_pairs(&centres, &reach);
+            for &(a, b) in cl.pairs.keys().chain(extra) {
+                if let (Some(&i), Some(&j)) = (index.get(&a), index.get(&b)) {
+                    local.push((i.min(j), i.max(j)));
+                }
+            }
+            local.sort_unstable();
+            local.dedup();
+        }
+        let ipairs: Vec<IslandPair> = local
+            .iter()
+            .map(|&(i, j)| {
+                let st = cl.pairs.get(&key(i as usize, j as usize));
+                if st.is_none() {
+                    let (ci, cj) = (&copies[i as usize], &copies[j as usize]);
+                    if ci.t_start <= s
+                        && cj.t_start <= s
+                        && (ci.pos - cj.pos).norm() < ci.body.radius + cj.body.radius
+                    {
+                        self.out.work.late_contacts += 1;
+                    }
+                }
+                IslandPair {
+                    a: i,
+                    b: j,
+                    touching: st.is_some(),
+                    contact_time: st.map_or(0.0, |p| p.contact_time),
+                    onset: st.map_or(0.0, |p| p.onset),
+                }
+            })
+            .collect();
+        if let Some(sp) = &self.phys.contacts.specimen {
+            for c in &copies {
+                if !c.on_specimen && c.t_start <= s && sp.gap(&c.pos, c.body.radius) < 0.0 {
+                    self.out.work.late_contacts += 1;
+                }
+            }
+        }
+        // Integrate each connected group (under the pairs) as its own island: shots
+        // gathered for safety but touching nobody do not share a clock. Samples: each
+        // member's position after every step of its island.
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        for pr in &ipairs {
+            let (a, b) = (
+                root(&mut parent, pr.a as usize),
+                root(&mut parent, pr.b as usize),
+            );
+            if a != b {
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut group_of = vec![usize::MAX; n];
+        for k in 0..n {
+            let r = root(&mut parent, k);
+            if group_of[r] == usize::MAX {
+                group_of[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            let g = group_of[r];
+            group_of[k] = g;
+            groups[g].push(k);
+        }
+        let mut group_pairs: Vec<Vec<IslandPair>> = vec![Vec::new(); groups.len()];
+        let mut slot = vec![0u32; n];
+        for grp in &groups {
+            for (q, &k) in grp.iter().enumerate() {
+                slot[k] = q as u32;
+            }
+        }
+        for pr in &ipairs {
+            let g = group_of[pr.a as usize];
+            group_pairs[g].push(IslandPair {
+                a: slot[pr.a as usize],
+                b: slot[pr.b as usize],
+                ..*pr
+            });
+        }
+        let mut out = IslandOutput::default();
+        let mut t_end = vec![s; n];
+        let mut paths: Vec<Vec<(f64, Vec3)>> = vec![Vec::new(); n];
+        let mut sub: Vec<ShotState> = Vec::new();
+        for (g, grp) in groups.iter().enumerate() {
+            sub.clear();
+            sub.extend(grp.iter().map(|&k| copies[k].clone()));
+            let mut steps: Vec<(f64, Vec<Vec3>)> = Vec::new();
+            let te = island::advance_until_apart(
+                self.phys,
+                &mut sub,
+                &mut group_pairs[g],
+                s,
+                e,
+                cl.apart_after.max(s),
+                &mut self.scratch,
+                &mut out,
+                &mut |t, y| {
+                    steps.push((
+                        t,
+                        (0..grp.len())
+                            .map(|q| Vec3::new(y[6 * q], y[6 * q + 1], y[6 * q + 2]))
+                            .collect(),
+                    ));
+                },
+            );
+            for (q, &k) in grp.iter().enumerate() {
+                copies[k] = sub[q].clone();
+                t_end[k] = te;
+                paths[k] = steps.iter().map(|(t, p)| (*t, p[q])).collect();
+            }
+        }
+        let mut ipairs_out: Vec<IslandPair> = Vec::with_capacity(ipairs.len());
+        for (g, grp) in groups.iter().enumerate() {
+            for pr in &group_pairs[g] {
+                ipairs_out.push(IslandPair {
+                    a: grp[pr.a as usize] as u32,
+                    b: grp[pr.b as usize] as u32,
+                    ..*pr
+                });
+            }
+        }
+        let ipairs = ipairs_out;
+        // Verify: shots left outside against the members' actual paths.
+        for (k, &m) in members.iter().enumerate() {
+            self.local[m] = k as u32;
+        }
+        let mut violator = None;
+        'verify: for &(c, m, _) in near {
+            if self.mark[c] == st || self.mark[m] != st {
+                continue;
+            }
+            let k = self.local[m] as usize;
+            let sigma = self.shots[c].body.radius + self.shots[m].body.radius;
+            let t0 = starts[k].2.max(self.t_ref[c]);
+            for &(t, pm) in &paths[k] {
+                if t < t0 {
+                    continue;
+                }
+                let (pc, _) = self.state_at(c, t);
+                if (pc - pm).norm() < sigma {
+                    violator = Some(c);
+                    break 'verify;
+                }
+            }
+        }
+        for (c, &m) in copies.iter_mut().zip(members) {
+            c.t_start = self.shots[m].t_start;
+        }
+        // Members that overlap at the chunk end (groups that finished early flown on
+        // freely) without having been paired: redo with them.
+        let mut missed = Vec::new();
+        if self.phys.contacts.pair.is_some() {
+            let ends: Vec<Vec3> = copies
+                .iter()
+                .zip(&t_end)
+                .map(|(c, &te)| self.flight.at(&c.pos, &c.vel, e - te).0)
+                .collect();
+            let radii: Vec<f64> = copies.iter().map(|c| c.body.radius).collect();
+            for (i, j) in self.close_pairs(&ends, &radii) {
+                if local.binary_search(&(i, j)).is_err()
+                    && copies[i as usize].is_active()
+                    && copies[j as usize].is_active()
+                {
+                    missed.push(key(i as usize, j as usize));
+                }
+            }
+        }
+        Chunk {
+            t_end,
+            copies,
+            pairs: ipairs,
+            out,
+            violator,
+            missed,
+        }
+    }
+
+    /// Pairs `(i, j)`, `i < j`, whose balls `(centres, radii)` overlap.
+    fn close_pairs(&mut self, centres: &[Vec3], radii: &[f64]) -> Vec<(u32, u32)> {
+        let n = centres.len();
+        if n <= ALL_PAIRS_UP_TO {
+            let mut v = Vec::new();
+            for i in 0..n {
+                for j in i + 1..n {
+                    if (centres[i] - centres[j]).norm() < radii[i] + radii[j] {
+                        v.push((i as u32, j as u32));
+                    }
+                }
+            }
+            v
+        } else {
+            let mut v = self.cells.pairs(centres, radii);
+            for p in &mut v {
+                *p = (p.0.min(p.1), p.0.max(p.1));
+            }
+            v.sort_unstable();
+            v
+        }
+    }
+
+    /// Writes a cluster chunk's result back: continues the cluster if contacts remain,
+    /// releases the other shots to free flight.
+    fn commit(&mut self, slot: usize, mut cl: Cluster, e: f64, chunk: Chunk) {
+        let Chunk {
+            t_end,
+            copies,
+            pairs: ipairs,
+            out,
+            ..
+        } = chunk;
+        self.out.impacts.extend(out.impacts);
+        self.out.events.extend(out.events);
+        self.out.work.add(&out.work);
+        let members = std::mem::take(&mut cl.members);
+        // Who is still in contact.
+        let mut held = vec![false; members.len()];
+        cl.pairs.clear();
+        for p in &ipairs {
+            if p.touching {
+                let (i, j) = (p.a as usize, p.b as usize);
+                if copies[i].is_active() && copies[j].is_active() {
+                    held[i] = true;
+                    held[j] = true;
+                    let (a, b) = (copies[i].id.0, copies[j].id.0);
+                    cl.pairs.insert(
+                        (a.min(b), a.max(b)),
+                        PairState {
+                            contact_time: p.contact_time,
+                            onset: p.onset,
+                        },
+                    );
+                }
+            }
+        }
+        for (k, c) in copies.iter().enumerate() {
+            if c.is_active() && (c.on_specimen || c.on_wall) {
+                held[k] = true;
+            }
+        }
+        let continues = e < self.end && held.iter().any(|&h| h);
+        for (k, (c, &m)) in copies.into_iter().zip(&members).enumerate() {
+            self.v_max = self.v_max.max(c.vel.norm());
+            let active = c.is_active();
+            self.shots[m] = c;
+            self.ver[m] += 1;
+            self.owner[m] = NONE;
+            if !active {
+                self.present[m] = false;
+                self.grid.remove(m);
+                continue;
+            }
+            if self.t_ref[m] < t_end[k] {
+                self.t_ref[m] = t_end[k];
+            }
+            let cell = self.grid.cell_of(&self.shots[m].pos);
+            self.grid.place(m, cell);
+        }
+        self.free_slots.push(slot);
+        if continues {
+            // The shots still in contact continue, one cluster per group held together
+            // by contacts (clusters never stay merged for longer than they touch).
+            let mut parent: Vec<usize> = (0..members.len()).collect();
+            fn root(p: &mut [usize], mut x: usize) -> usize {
+                while p[x] != x {
+                    p[x] = p[p[x]];
+                    x = p[x];
+                }
+                x
+            }
+            for p in &ipairs {
+                if p.touching && held[p.a as usize] && held[p.b as usize] {
+                    let (a, b) = (
+                        root(&mut parent, p.a as usize),
+                        root(&mut parent, p.b as usize),
+                    );
+                    if a != b {
+                        parent[a.max(b)] = a.min(b);
+                    }
+                }
+            }
+            let mut group_slot: HashMap<usize, usize> = HashMap::default();
+            let mut order: Vec<usize> = Vec::new();
+            for k in 0..members.len() {
+                if !held[k] {
+                    continue;
+                }
+                let r = root(&mut parent, k);
+                let next = self.free_slots.pop().unwrap_or_else(|| {
+                    self.clusters.push(None);
+                    self.clusters.len() - 1
+                });
+                let gs = *group_slot.entry(r).or_insert_with(|| {
+                    order.push(next);
+                    next
+                });
+                if gs != next {
+                    self.free_slots.push(next);
+                }
+                let m = members[k];
+                self.owner[m] = gs as u32;
+                self.next_change[m] = e;
+                let c = self.clusters[gs].get_or_insert_with(|| Cluster {
+                    members: Vec::new(),
+                    pairs: HashMap::default(),
+                    clock: e,
+                    tc: cl.tc,
+                    chunks: cl.chunks + 1,
+                    apart_after: e,
+                    onset: e,
+                    gen_: 0,
+                });
+                c.members.push(m);
+            }
+            for (key, ps) in &cl.pairs {
+                let o = self.owner[key.0 as usize];
+                if o != NONE
+                    && let Some(c) = self.clusters[o as usize].as_mut()
+                {
+                    c.pairs.insert(*key, *ps);
+                }
+            }
+            for gs in order {
+                self.next_gen += 1;
+                let g = self.next_gen;
+                if let Some(c) = self.clusters[gs].as_mut() {
+                    c.gen_ = g;
+                }
+                self.queue.push(Reverse(Ev {
+                    t: e,
+                    kind: Kind::Continue,
+                    a: gs as u32,
+                    b: 0,
+                    va: g,
+                    vb: 0,
+                }));
+            }
+        }
+        // Released shots fly free again.
+        for &m in &members {
+            if self.present[m] && self.owner[m] == NONE && self.t_ref[m] < self.end {
+                self.predict(m);
+            }
+        }
+    }
+}
