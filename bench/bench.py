@@ -136,8 +136,18 @@ def liggghts(tmp):
         run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
         loops = liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())
         results[name] = sum(loops[-timed:])
-    # peenflow on the same scenes (one thread, as LIGGGHTS here).
+    # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
+    # (tolerance 1e-6, 50 steps per contact), and at LIGGGHTS' accuracy (tolerance 1e-4,
+    # 15 steps per contact), checked below on a shot-shot collision.
+    matched = "[integrator]\ntolerance = 1e-4\ncontact_steps = 15\n"
     ps = peenflow(os.path.join(SCENES, "pack_stream_10k.toml"), 1, tmp, "ps")
+    text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
+    fast_scene = os.path.join(tmp, "pack_matched.toml")
+    open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
+    ps_fast = peenflow(fast_scene, 1, tmp, "ps_fast")
+    win_scene = os.path.join(tmp, "pack_windows.toml")
+    open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
+    ps_win = peenflow(win_scene, 1, tmp, "ps_win")
     bed = peenflow(os.path.join(SCENES, "bed_10k.toml"), 1, tmp, "bed")
     # Accuracy check on the single shot: adaptive at the default tolerance vs a 20 ns step.
     acc = os.path.join(tmp, "acc")
@@ -147,11 +157,53 @@ def liggghts(tmp):
     e_ad, e_vv = err("adaptive", 1e-6), err("verlet", 20e-9)
     print(f"impact-speed error, single shot: peenflow default tolerance 1e-6: {e_ad:.2e}; fixed 20 ns step: {e_vv:.2e}")
     assert e_ad <= e_vv, "peenflow's default tolerance is less accurate than a 20 ns fixed step"
-    print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread, tol 1e-6) | LIGGGHTS / peenflow |")
+    # Accuracy check on a head-on shot-shot collision at the pack's 119 m/s closing speed:
+    # error of the outgoing relative speed against restitution 0.9, for the matched setting
+    # and for velocity Verlet at LIGGGHTS' 20 ns step.
+    pair = """duration_ms = 0.02
+[shots]
+diameter_mm = 0.8
+material = "table2-steel"
+[shots.feed]
+type = "list"
+[[shots.feed.shots]]
+position_mm = [0.0, 0.0, 5.0]
+velocity_m_s = [0.0, 0.0, 49.0]
+[[shots.feed.shots]]
+position_mm = [0.0, 0.0, 6.0]
+velocity_m_s = [0.0, 0.0, -70.0]
+[restitution]
+shot_shot = 0.9
+[effects]
+drag = false
+lateral_force = false
+gravity = false
+specimen_contact = false
+shot_shot_contact = true
+nozzle_wall_contact = false
+"""
+    def restitution_error(integrator, tag):
+        path = os.path.join(tmp, f"pair_{tag}.toml")
+        open(path, "w").write(pair.replace("[effects]", integrator + "[effects]"))
+        out = os.path.join(tmp, f"pair_{tag}")
+        run([BIN, "run", path, "--out", out, "--force", "-q", "-j", "1"], tmp)
+        import csv
+        shots = list(csv.DictReader(open(os.path.join(out, "shots.csv"))))
+        vz = [float(r["vz_m_s"]) for r in shots]
+        return abs((vz[1] - vz[0]) / 119.0 - 0.9) / 0.9
+
+    e_matched = restitution_error(matched, "matched")
+    e_verlet = restitution_error('[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\n', "verlet")
+    print(f"restitution error, head-on at 119 m/s: peenflow tolerance 1e-4 / 15 steps per contact: {e_matched:.2e}; velocity Verlet 20 ns: {e_verlet:.2e}")
+    assert e_matched <= e_verlet, "the matched setting is less accurate than a 20 ns Verlet step"
+    print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread) | LIGGGHTS / peenflow |")
     print("|---|---|---|---|")
-    print(f"| stream, 10,000 shots at 70 m/s, 170 us | {results['stream']:.2f} | {ps['wall']:.2f} | {results['stream'] / ps['wall']:.2f} |")
+    lg = results["stream"]
+    print(f"| stream, 10,000 shots at 70 m/s, 170 us: event scheduler, tolerance 1e-6, 50 steps per contact (default) | {lg:.2f} | {ps['wall']:.2f} | {lg / ps['wall']:.2f} |")
+    print(f"| same, event scheduler at LIGGGHTS' accuracy (tolerance 1e-4, 15 steps per contact) | {lg:.2f} | {ps_fast['wall']:.2f} | {lg / ps_fast['wall']:.2f} |")
+    print(f"| same, window scheduler, default accuracy | {lg:.2f} | {ps_win['wall']:.2f} | {lg / ps_win['wall']:.2f} |")
     # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
-    print(f"| dense bed, 10,240 shots, 200 us | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
+    print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
 
 
 def main():
