@@ -42,7 +42,9 @@ pub mod grid;
 use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::{PairContact, effective_mass, hertz};
-use crate::integrate::island::{self, IslandOutput, IslandPair, Method, Physics, Scratch};
+use crate::integrate::island::{
+    self, IslandOutput, IslandPair, MIN_CONTACT_SPEED, Method, Physics, Scratch,
+};
 use crate::state::{ShotState, ShotStatus};
 use flight::{Flight, closest_approach, pair_touch};
 use grid::Grid;
@@ -57,8 +59,6 @@ const MAX_CHUNK: f64 = 1e-4;
 const MAX_REDOS: u32 = 8;
 /// Free paths closer than contact distance times (1 + this) join a cluster.
 const SLACK: f64 = 0.1;
-/// Floor (m/s) of the closing speed used to estimate a contact's duration.
-const MIN_CONTACT_SPEED: f64 = 0.01;
 /// Clusters larger than this find their pairs with a cell list instead of all pairs.
 const ALL_PAIRS_UP_TO: usize = 48;
 
@@ -154,6 +154,25 @@ struct Cluster {
     onset: f64,
     /// Generation (stale `Continue` events carry an older one).
     gen_: u32,
+}
+
+/// The root (smallest node) of each of `n` nodes' connected group under `edges`.
+fn group_roots(n: usize, edges: impl Iterator<Item = (usize, usize)>) -> Vec<usize> {
+    fn root(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    let mut parent: Vec<usize> = (0..n).collect();
+    for (a, b) in edges {
+        let (a, b) = (root(&mut parent, a), root(&mut parent, b));
+        if a != b {
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    (0..n).map(|k| root(&mut parent, k)).collect()
 }
 
 /// What integrating one cluster chunk produced (on copies of the members).
@@ -845,27 +864,11 @@ impl<'a> Engine<'a> {
         // Integrate each connected group (under the pairs) as its own island: shots
         // gathered for safety but touching nobody do not share a clock. Samples: each
         // member's position after every step of its island.
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn root(p: &mut [usize], mut x: usize) -> usize {
-            while p[x] != x {
-                p[x] = p[p[x]];
-                x = p[x];
-            }
-            x
-        }
-        for pr in &ipairs {
-            let (a, b) = (
-                root(&mut parent, pr.a as usize),
-                root(&mut parent, pr.b as usize),
-            );
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
-        }
+        let roots = group_roots(n, ipairs.iter().map(|p| (p.a as usize, p.b as usize)));
         let mut groups: Vec<Vec<usize>> = Vec::new();
         let mut group_of = vec![usize::MAX; n];
         for k in 0..n {
-            let r = root(&mut parent, k);
+            let r = roots[k];
             if group_of[r] == usize::MAX {
                 group_of[r] = groups.len();
                 groups.push(Vec::new());
@@ -1071,32 +1074,20 @@ impl<'a> Engine<'a> {
         if continues {
             // The shots still in contact continue, one cluster per group held together
             // by contacts (clusters never stay merged for longer than they touch).
-            let mut parent: Vec<usize> = (0..members.len()).collect();
-            fn root(p: &mut [usize], mut x: usize) -> usize {
-                while p[x] != x {
-                    p[x] = p[p[x]];
-                    x = p[x];
-                }
-                x
-            }
-            for p in &ipairs {
-                if p.touching && held[p.a as usize] && held[p.b as usize] {
-                    let (a, b) = (
-                        root(&mut parent, p.a as usize),
-                        root(&mut parent, p.b as usize),
-                    );
-                    if a != b {
-                        parent[a.max(b)] = a.min(b);
-                    }
-                }
-            }
+            let roots = group_roots(
+                members.len(),
+                ipairs
+                    .iter()
+                    .filter(|p| p.touching && held[p.a as usize] && held[p.b as usize])
+                    .map(|p| (p.a as usize, p.b as usize)),
+            );
             let mut group_slot: HashMap<usize, usize> = HashMap::default();
             let mut order: Vec<usize> = Vec::new();
             for k in 0..members.len() {
                 if !held[k] {
                     continue;
                 }
-                let r = root(&mut parent, k);
+                let r = roots[k];
                 let next = self.free_slots.pop().unwrap_or_else(|| {
                     self.clusters.push(None);
                     self.clusters.len() - 1

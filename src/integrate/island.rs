@@ -108,7 +108,7 @@ impl Default for Scratch {
 /// shot's integration failed.
 const MIN_STEP: f64 = 1e-15;
 /// Floor (m/s) of the closing speed used to estimate a contact's duration.
-const MIN_CONTACT_SPEED: f64 = 0.01;
+pub(crate) const MIN_CONTACT_SPEED: f64 = 0.01;
 
 #[inline]
 fn pos(y: &[f64], i: usize) -> Vec3 {
