@@ -63,6 +63,9 @@ impl<T: Ord> Calendar<T> {
             return None;
         }
         while self.buckets[self.current].is_empty() {
+            // A bucket left behind is never used again: free its storage (memory then
+            // follows the queued events, as with one heap).
+            self.buckets[self.current] = BinaryHeap::new();
             self.current += 1;
         }
         self.len -= 1;
