@@ -205,24 +205,14 @@ struct Chunk {
     unchanged: Vec<bool>,
 }
 
-/// A shot's free-flight reference: position and velocity at `t_ref`.
-#[derive(Debug, Clone, Copy)]
-struct Fly {
-    pos: Vec3,
-    vel: Vec3,
-    t_ref: f64,
-    radius: f64,
-}
-
 /// The scheduler's state.
 struct Engine<'a> {
     phys: &'a Physics,
     flight: Flight,
     end: f64,
     shots: &'a mut [ShotState],
-    /// Free-flight state of each shot (a compact copy of `shots[i].pos / vel`, read by
-    /// every neighbour scan) and the time at which it holds.
-    fly: Vec<Fly>,
+    /// Time at which `shots[i].pos / vel` hold.
+    t_ref: Vec<f64>,
     ver: Vec<u32>,
     /// Cluster slot of a shot in a cluster in progress, else `NONE`.
     owner: Vec<u32>,
@@ -299,15 +289,7 @@ impl<'a> Engine<'a> {
             phys,
             flight: Flight { g },
             end,
-            fly: shots
-                .iter()
-                .map(|s| Fly {
-                    pos: s.pos,
-                    vel: s.vel,
-                    t_ref: s.t_start.max(0.0),
-                    radius: s.body.radius,
-                })
-                .collect(),
+            t_ref: shots.iter().map(|s| s.t_start.max(0.0)).collect(),
             ver: vec![0; n],
             owner: vec![NONE; n],
             present: vec![false; n],
@@ -349,20 +331,11 @@ impl<'a> Engine<'a> {
         );
     }
 
-    /// Copies shot `i`'s position and velocity into its free-flight reference.
-    #[inline]
-    fn sync(&mut self, i: usize) {
-        let s = &self.shots[i];
-        let f = &mut self.fly[i];
-        f.pos = s.pos;
-        f.vel = s.vel;
-    }
-
     /// Free-flight state of shot `i` at `t` (not before its reference time).
     #[inline]
     fn state_at(&self, i: usize, t: f64) -> (Vec3, Vec3) {
-        let f = &self.fly[i];
-        self.flight.at(&f.pos, &f.vel, (t - f.t_ref).max(0.0))
+        let s = &self.shots[i];
+        self.flight.at(&s.pos, &s.vel, (t - self.t_ref[i]).max(0.0))
     }
 
     /// Upper bound of any shot's speed until the end.
@@ -417,8 +390,7 @@ impl<'a> Engine<'a> {
                         s.vel = v;
                         s.status = ShotStatus::LeftDomain;
                         s.t_stop = Some(ev.t);
-                        self.fly[a].t_ref = ev.t;
-                        self.sync(a);
+                        self.t_ref[a] = ev.t;
                         self.ver[a] += 1;
                         self.present[a] = false;
                         self.grid.remove(a);
@@ -450,12 +422,11 @@ impl<'a> Engine<'a> {
         // Free shots fly to the end.
         self.t_now = self.end;
         for i in 0..n {
-            if self.present[i] && self.owner[i] == NONE && self.fly[i].t_ref < self.end {
+            if self.present[i] && self.owner[i] == NONE && self.t_ref[i] < self.end {
                 let (p, v) = self.state_at(i, self.end);
                 self.shots[i].pos = p;
                 self.shots[i].vel = v;
-                self.fly[i].t_ref = self.end;
-                self.sync(i);
+                self.t_ref[i] = self.end;
             }
         }
         progress(1.0);
@@ -463,8 +434,7 @@ impl<'a> Engine<'a> {
 
     fn enter(&mut self, i: usize) {
         self.present[i] = true;
-        self.fly[i].t_ref = self.shots[i].t_start.max(0.0);
-        self.sync(i);
+        self.t_ref[i] = self.shots[i].t_start.max(0.0);
         let c = self.grid.cell_of(&self.shots[i].pos);
         self.grid.place(i, c);
     }
@@ -481,8 +451,8 @@ impl<'a> Engine<'a> {
             }
         }
         self.buf = nb;
-        let f = self.fly[i];
-        let (t, p, v, r) = (f.t_ref, f.pos, f.vel, f.radius);
+        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (p, v, r) = (s.pos, s.vel, s.body.radius);
         if self.phys.contacts.specimen.is_some()
             && let Some(tau) = self.flight.down_through(p.z, v.z, r)
             && t + tau <= self.end
@@ -505,10 +475,10 @@ impl<'a> Engine<'a> {
     }
 
     fn predict_pair(&mut self, i: usize, j: usize) {
-        let t0 = self.fly[i].t_ref.max(self.fly[j].t_ref);
+        let t0 = self.t_ref[i].max(self.t_ref[j]);
         let (pi, vi) = self.state_at(i, t0);
         let (pj, vj) = self.state_at(j, t0);
-        let sigma = self.fly[i].radius + self.fly[j].radius;
+        let sigma = self.shots[i].body.radius + self.shots[j].body.radius;
         let dx = pj - pi;
         let touch = if dx.norm_squared() < sigma * sigma {
             // Overlapping free shots: a contact was missed. Count it, and let a cluster
@@ -532,8 +502,8 @@ impl<'a> Engine<'a> {
     /// The next cell face free shot `i` crosses (event `b` = axis * 2 + upwards).
     fn schedule_cross(&mut self, i: usize) {
         let c = self.grid.at[i];
-        let f = self.fly[i];
-        let (t, p, v) = (f.t_ref, f.pos, f.vel);
+        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (p, v) = (s.pos, s.vel);
         let mut best = (f64::INFINITY, 0usize);
         for axis in 0..3 {
             let (lo, hi) = self.grid.faces(&c, axis);
@@ -603,7 +573,7 @@ impl<'a> Engine<'a> {
         let back = tc / self.phys.contact_steps;
         let s = who
             .iter()
-            .map(|&i| self.fly[i].t_ref)
+            .map(|&i| self.t_ref[i])
             .fold(t_on - back, f64::max);
         let slot = self.free_slots.pop().unwrap_or_else(|| {
             self.clusters.push(None);
@@ -698,9 +668,9 @@ impl<'a> Engine<'a> {
             while scanned < cl.members.len() {
                 let m = cl.members[scanned];
                 scanned += 1;
-                let tm = self.fly[m].t_ref.max(s);
+                let tm = self.t_ref[m].max(s);
                 let (pm, vm) = self.state_at(m, tm);
-                let rm = self.fly[m].radius;
+                let rm = self.shots[m].body.radius;
                 let reach = rm + self.r_max + 2.0 * vb * (e - s) + SLACK * 2.0 * self.r_max;
                 found.clear();
                 self.grid.for_each_within(&pm, reach, |c| found.push(c));
@@ -708,8 +678,8 @@ impl<'a> Engine<'a> {
                     if !self.present[c] || self.mark[c] == st {
                         continue;
                     }
-                    let sigma = rm + self.fly[c].radius;
-                    let tc_ref = self.fly[c].t_ref;
+                    let sigma = rm + self.shots[c].body.radius;
+                    let tc_ref = self.t_ref[c];
                     // A shot resolved ahead (its cluster ended, or paused, after `s`) is
                     // taken on its free path from its own clock; before that, its
                     // cluster's checks covered the members' free paths. (A shot of a
@@ -843,7 +813,7 @@ impl<'a> Engine<'a> {
         let mut starts: Vec<(Vec3, Vec3, f64)> = Vec::with_capacity(n);
         for &m in members {
             let mut c = self.shots[m].clone();
-            let tm = self.fly[m].t_ref;
+            let tm = self.t_ref[m];
             if tm <= s {
                 let (p, v) = self.state_at(m, s);
                 c.pos = p;
@@ -969,7 +939,7 @@ impl<'a> Engine<'a> {
             {
                 let m = members[k];
                 copies[k] = self.shots[m].clone();
-                t_end[k] = self.fly[m].t_ref;
+                t_end[k] = self.t_ref[m];
                 paths[k] = vec![(starts[k].2, starts[k].0), (e, self.state_at(m, e).0)];
                 unchanged[k] = true;
                 continue;
@@ -1026,8 +996,8 @@ impl<'a> Engine<'a> {
                 continue;
             }
             let k = self.local[m] as usize;
-            let sigma = self.fly[c].radius + self.fly[m].radius;
-            let t0 = starts[k].2.max(self.fly[c].t_ref);
+            let sigma = self.shots[c].body.radius + self.shots[m].body.radius;
+            let t0 = starts[k].2.max(self.t_ref[c]);
             for &(t, pm) in &paths[k] {
                 if t < t0 {
                     continue;
@@ -1152,10 +1122,9 @@ impl<'a> Engine<'a> {
                 self.grid.remove(m);
                 continue;
             }
-            if self.fly[m].t_ref < t_end[k] {
-                self.fly[m].t_ref = t_end[k];
+            if self.t_ref[m] < t_end[k] {
+                self.t_ref[m] = t_end[k];
             }
-            self.sync(m);
             let cell = self.grid.cell_of(&self.shots[m].pos);
             self.grid.place(m, cell);
         }
@@ -1232,7 +1201,7 @@ impl<'a> Engine<'a> {
         }
         // Released shots fly free again.
         for (&m, _) in members.iter().zip(&unchanged).filter(|(_, u)| !**u) {
-            if self.present[m] && self.owner[m] == NONE && self.fly[m].t_ref < self.end {
+            if self.present[m] && self.owner[m] == NONE && self.t_ref[m] < self.end {
                 self.predict(m);
             }
         }
