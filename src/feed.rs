@@ -122,6 +122,167 @@ pub fn sphere_mass(d: f64, rho: f64) -> f64 {
     rho * std::f64::consts::PI / 6.0 * d * d * d
 }
 
+/// A stream feed's shots, generated one at a time in id (= entry time) order, so a run
+/// can create each shot when it enters instead of holding every shot of the stream.
+/// Same seed, same shots as [`initial_shots`] (which collects this iterator).
+pub struct StreamFeed {
+    rng: ChaCha8Rng,
+    rate: f64,
+    duration: f64,
+    entry_speed: f64,
+    poisson: bool,
+    t_clear: f64,
+    inlet: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    bore: f64,
+    sizes: SizeDistribution,
+    density: f64,
+    path: String,
+    t: f64,
+    id: u32,
+    done: bool,
+    /// Shots that entered within `t_clear` of the newest (centre, radius, entry time).
+    recent: std::collections::VecDeque<(Vec3, f64, f64)>,
+}
+
+impl StreamFeed {
+    /// The generator of `scene`'s stream (a scene without a stream feed yields nothing).
+    pub fn of_scene(scene: &Scene) -> Self {
+        StreamFeed::new(scene, ChaCha8Rng::seed_from_u64(scene.seed))
+    }
+
+    fn new(scene: &Scene, rng: ChaCha8Rng) -> Self {
+        let (rate, duration, entry_speed, poisson) = match &scene.feed {
+            Feed::Stream {
+                rate,
+                duration,
+                entry_speed,
+                poisson,
+            } => (*rate, *duration, *entry_speed, *poisson),
+            _ => (1.0, 0.0, 0.0, false),
+        };
+        let rho = scene.shot_material.density;
+        // A shot blocks its entry spot until drag has moved it one diameter:
+        // t_clear = sqrt(2 D / a0) with a0 the drag acceleration from rest in the bore.
+        let d_max = scene.sizes.max_diameter();
+        let m_min = sphere_mass(scene.sizes.min_diameter(), rho);
+        let ui = scene.air.exit_velocity;
+        let a0 = 0.5
+            * scene.core_density()
+            * scene.jet.drag_coefficient
+            * std::f64::consts::PI
+            * 0.25
+            * d_max
+            * d_max
+            * ui
+            * ui
+            / m_min;
+        let (e1, e2) = scene.nozzle.cross_axes();
+        StreamFeed {
+            rng,
+            rate,
+            duration,
+            entry_speed,
+            poisson,
+            t_clear: (2.0 * d_max / a0.max(1e-9)).sqrt(),
+            inlet: scene.nozzle.inlet(),
+            e1,
+            e2,
+            bore: scene.nozzle.bore,
+            sizes: scene.sizes.clone(),
+            density: rho,
+            path: scene.path.clone(),
+            t: 0.0,
+            id: 0,
+            done: !matches!(scene.feed, Feed::Stream { .. }),
+            recent: Default::default(),
+        }
+    }
+
+    /// The next shot, `None` once the stream's duration is over; an error when the
+    /// shots cannot enter the bore without overlap.
+    pub fn next_shot(&mut self) -> Result<Option<ShotState>, SceneError> {
+        if self.done {
+            return Ok(None);
+        }
+        let rate = self.rate;
+        self.t += if self.poisson {
+            -self.rng.random_range(f64::MIN_POSITIVE..1.0f64).ln() / rate
+        } else if self.id == 0 {
+            0.0
+        } else {
+            1.0 / rate
+        };
+        if self.t >= self.duration {
+            self.done = true;
+            return Ok(None);
+        }
+        let d = draw_diameter(&self.sizes, &mut self.rng);
+        let r = 0.5 * d;
+        let limit = 0.5 * self.bore - r;
+        let mut placed = None;
+        let mut t_in = self.t;
+        'search: for _ in 0..1000 {
+            for _ in 0..50 {
+                let rho_r = self.rng.random_range(0.0..=limit * limit).sqrt();
+                let phi = self.rng.random_range(0.0..std::f64::consts::TAU);
+                let p = self.inlet + self.e1 * (rho_r * phi.cos()) + self.e2 * (rho_r * phi.sin());
+                let clear = self
+                    .recent
+                    .iter()
+                    .rev()
+                    .take_while(|s| s.2 > t_in - self.t_clear)
+                    .all(|s| (s.0 - p).norm() >= s.1 + r);
+                if clear {
+                    placed = Some(p);
+                    break 'search;
+                }
+            }
+            // The inlet is crowded: wait a little (deterministically) and retry.
+            t_in += 0.1 * self.t_clear;
+        }
+        let Some(p) = placed else {
+            self.done = true;
+            return Err(SceneError::Invalid {
+                path: self.path.clone(),
+                key: "shots.feed".into(),
+                message: format!(
+                    "the stream of {rate:.4e} shots/s cannot enter the {} mm bore without overlap; lower the rate",
+                    self.bore * 1e3
+                ),
+            });
+        };
+        self.t = t_in;
+        if self.t >= self.duration {
+            self.done = true;
+            return Ok(None);
+        }
+        // Entry times only grow: shots that entered before t - t_clear never block again.
+        while self
+            .recent
+            .front()
+            .is_some_and(|s| s.2 <= self.t - self.t_clear)
+        {
+            self.recent.pop_front();
+        }
+        self.recent.push_back((p, r, self.t));
+        let body = ShotBody {
+            radius: r,
+            mass: sphere_mass(d, self.density),
+        };
+        let shot = ShotState::new(
+            ShotId(self.id),
+            p,
+            Vec3::new(0.0, 0.0, -self.entry_speed),
+            body,
+            self.t,
+        );
+        self.id += 1;
+        Ok(Some(shot))
+    }
+}
+
 /// The scene's shots, in id order.
 pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
@@ -184,86 +345,10 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                 shots.push(ShotState::new(ShotId(i), p, Vec3::zeros(), body(d), 0.0));
             }
         }
-        Feed::Stream {
-            rate,
-            duration,
-            entry_speed,
-            poisson,
-        } => {
-            // A shot blocks its entry spot until drag has moved it one diameter:
-            // t_clear = sqrt(2 D / a0) with a0 the drag acceleration from rest in the bore.
-            let d_max = scene.sizes.max_diameter();
-            let m_min = sphere_mass(scene.sizes.min_diameter(), rho);
-            let ui = scene.air.exit_velocity;
-            let a0 = 0.5
-                * scene.core_density()
-                * scene.jet.drag_coefficient
-                * std::f64::consts::PI
-                * 0.25
-                * d_max
-                * d_max
-                * ui
-                * ui
-                / m_min;
-            let t_clear = (2.0 * d_max / a0.max(1e-9)).sqrt();
-            let mut t = 0.0;
-            let mut id = 0u32;
-            loop {
-                t += if *poisson {
-                    -rng.random_range(f64::MIN_POSITIVE..1.0f64).ln() / rate
-                } else if id == 0 {
-                    0.0
-                } else {
-                    1.0 / rate
-                };
-                if t >= *duration {
-                    break;
-                }
-                let d = draw_diameter(&scene.sizes, &mut rng);
-                let r = 0.5 * d;
-                let limit = 0.5 * scene.nozzle.bore - r;
-                let mut placed = None;
-                let mut t_in = t;
-                'search: for _ in 0..1000 {
-                    for _ in 0..50 {
-                        let rho_r = rng.random_range(0.0..=limit * limit).sqrt();
-                        let phi = rng.random_range(0.0..std::f64::consts::TAU);
-                        let p = in_bore(0.0, rho_r, phi);
-                        let clear = shots
-                            .iter()
-                            .rev()
-                            .take_while(|s| s.t_start > t_in - t_clear)
-                            .all(|s| (s.pos - p).norm() >= s.body.radius + r);
-                        if clear {
-                            placed = Some(p);
-                            break 'search;
-                        }
-                    }
-                    // The inlet is crowded: wait a little (deterministically) and retry.
-                    t_in += 0.1 * t_clear;
-                }
-                let Some(p) = placed else {
-                    return Err(SceneError::Invalid {
-                        path: scene.path.clone(),
-                        key: "shots.feed".into(),
-                        message: format!(
-                            "the stream of {rate:.4e} shots/s cannot enter the {} mm bore without overlap; lower the rate",
-                            scene.nozzle.bore * 1e3
-                        ),
-                    });
-                };
-                t = t_in;
-                if t >= *duration {
-                    break;
-                }
-                shots.push(ShotState::new(
-                    ShotId(id),
-                    p,
-                    Vec3::new(0.0, 0.0, -entry_speed),
-                    body(d),
-                    t,
-                ));
-                id += 1;
+        Feed::Stream { .. } => {
+            let mut feed = StreamFeed::new(scene, rng);
+            while let Some(shot) = feed.next_shot()? {
+                shots.push(shot);
             }
         }
         Feed::Box {

@@ -3,7 +3,7 @@
 
 use crate::record::Impact;
 use crate::scene::Scene;
-use crate::sim::RunOutput;
+use crate::sim::{RunOutput, RunSink};
 use crate::state::ShotState;
 use crate::summary::Summary;
 use serde::Serialize;
@@ -98,45 +98,74 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     result.map_err(io(path))
 }
 
-/// Streams CSV rows into `path` atomically (a buffered temporary file, then rename): the
-/// table is never held in memory as text.
-fn write_csv_atomic<T: Serialize>(
-    path: &Path,
-    header: &str,
-    rows: impl IntoIterator<Item = T>,
-) -> Result<(), OutputError> {
-    let tmp = temp_name(path);
-    let csv_err = |source| OutputError::Csv {
-        path: path.display().to_string(),
-        source,
-    };
-    let result = (|| {
+/// A CSV file written row by row under a temporary name, renamed by
+/// [`CsvStream::finish`] (removed if dropped unfinished): the table is never held in
+/// memory.
+struct CsvStream {
+    w: Option<csv::Writer<std::io::BufWriter<fs::File>>>,
+    header: &'static str,
+    empty: bool,
+    tmp: PathBuf,
+    path: PathBuf,
+}
+
+impl CsvStream {
+    fn create(path: &Path, header: &'static str) -> Result<Self, OutputError> {
+        let tmp = temp_name(path);
         let file = fs::File::create(&tmp).map_err(io(path))?;
-        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
-        let mut empty = true;
-        for r in rows {
-            w.serialize(r).map_err(csv_err)?;
-            empty = false;
-        }
-        let mut buf = w.into_inner().map_err(|e| OutputError::Io {
-            path: path.display().to_string(),
-            source: e.into_error(),
-        })?;
-        if empty {
-            // serde writes the header with the first row: write it alone.
-            buf.write_all(header.as_bytes()).map_err(io(path))?;
-        }
-        let file = buf.into_inner().map_err(|e| OutputError::Io {
-            path: path.display().to_string(),
-            source: e.into_error(),
-        })?;
-        file.sync_all().map_err(io(path))?;
-        fs::rename(&tmp, path).map_err(io(path))
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+        Ok(CsvStream {
+            w: Some(csv::Writer::from_writer(std::io::BufWriter::new(file))),
+            header,
+            empty: true,
+            tmp,
+            path: path.to_path_buf(),
+        })
     }
-    result
+
+    fn row<T: Serialize>(&mut self, r: T) -> Result<(), OutputError> {
+        self.empty = false;
+        self.w
+            .as_mut()
+            .expect("BUG: CSV stream used after finish")
+            .serialize(r)
+            .map_err(|source| OutputError::Csv {
+                path: self.path.display().to_string(),
+                source,
+            })
+    }
+
+    fn finish(mut self) -> Result<(), OutputError> {
+        let w = self.w.take().expect("BUG: CSV stream finished twice");
+        let path = self.path.clone();
+        let result = (|| {
+            let mut buf = w.into_inner().map_err(|e| OutputError::Io {
+                path: path.display().to_string(),
+                source: e.into_error(),
+            })?;
+            if self.empty {
+                // serde writes the header with the first row: write it alone.
+                buf.write_all(self.header.as_bytes()).map_err(io(&path))?;
+            }
+            let file = buf.into_inner().map_err(|e| OutputError::Io {
+                path: path.display().to_string(),
+                source: e.into_error(),
+            })?;
+            file.sync_all().map_err(io(&path))?;
+            fs::rename(&self.tmp, &path).map_err(io(&path))
+        })();
+        if result.is_err() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+        result
+    }
+}
+
+impl Drop for CsvStream {
+    fn drop(&mut self) {
+        if self.w.take().is_some() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 fn temp_name(path: &Path) -> PathBuf {
@@ -262,31 +291,109 @@ pub fn write_run(
     out: &RunOutput,
     summary: &Summary,
 ) -> Result<(), OutputError> {
-    write_csv_atomic(&dir.join("impacts.csv"), IMPACT_HEADER, &out.impacts)?;
-    write_csv_atomic(
-        &dir.join("shots.csv"),
-        SHOT_HEADER,
-        out.shots.iter().map(ShotRow::from),
-    )?;
-    crate::export::hdf5::write(
-        &dir.join("impacts.h5"),
-        &crate::export::hdf5::ImpactFileData {
-            scene_text: &scene.text,
-            scene_path: &scene.path,
-            title: &scene.title,
-            seed: scene.seed,
-            simulated_time: out.end_time,
-            impacts: &out.impacts,
-            shots: &out.shots,
+    let mut w = RunWriter::create(dir)?;
+    w.impacts(&out.impacts);
+    let mut shots: Vec<&ShotState> = out.shots.iter().collect();
+    shots.sort_by(|a, b| crate::sim::stop_order(a, b));
+    for s in shots {
+        w.shot(s);
+    }
+    w.finish(scene, out.end_time, summary)
+}
+
+/// A run's impacts.csv, shots.csv and impacts.h5 written as the run hands over its
+/// records (a [`RunSink`]), then summary.json: every file under a temporary name until
+/// [`RunWriter::finish`] renames it, removed if the writer is dropped unfinished. The
+/// first write error stops the writing and is returned by `finish`.
+pub struct RunWriter {
+    dir: PathBuf,
+    impacts_csv: CsvStream,
+    shots_csv: CsvStream,
+    h5: crate::export::hdf5::ImpactStream,
+    error: Option<OutputError>,
+}
+
+impl RunWriter {
+    /// Starts the files in `dir` (see [`prepare_dir`]).
+    pub fn create(dir: &Path) -> Result<Self, OutputError> {
+        Ok(RunWriter {
+            impacts_csv: CsvStream::create(&dir.join("impacts.csv"), IMPACT_HEADER)?,
+            shots_csv: CsvStream::create(&dir.join("shots.csv"), SHOT_HEADER)?,
+            h5: crate::export::hdf5::ImpactStream::create(&dir.join("impacts.h5"))?,
+            dir: dir.to_path_buf(),
+            error: None,
+        })
+    }
+
+    fn keep(&mut self, r: Result<(), OutputError>) {
+        if let Err(e) = r
+            && self.error.is_none()
+        {
+            self.error = Some(e);
+        }
+    }
+
+    /// Completes the files with the run's simulated time and summary.
+    pub fn finish(
+        self,
+        scene: &Scene,
+        simulated_time: f64,
+        summary: &Summary,
+    ) -> Result<(), OutputError> {
+        let RunWriter {
+            dir,
+            impacts_csv,
+            shots_csv,
+            h5,
+            error,
+        } = self;
+        if let Some(e) = error {
+            return Err(e);
+        }
+        impacts_csv.finish()?;
+        shots_csv.finish()?;
+        h5.finish(
+            &crate::export::hdf5::FileHead {
+                scene_text: &scene.text,
+                scene_path: &scene.path,
+                title: &scene.title,
+                seed: scene.seed,
+                simulated_time,
+            },
             summary,
-            seeds: None,
-        },
-    )?;
-    let p = dir.join("summary.json");
-    let mut json = serde_json::to_vec_pretty(summary).expect("BUG: summary serialises");
-    json.push(b'\n');
-    write_atomic(&p, &json)?;
-    Ok(())
+        )?;
+        let mut json = serde_json::to_vec_pretty(summary).expect("BUG: summary serialises");
+        json.push(b'\n');
+        write_atomic(&dir.join("summary.json"), &json)
+    }
+}
+
+impl RunSink for RunWriter {
+    fn impacts(&mut self, batch: &[Impact]) {
+        if self.error.is_some() {
+            return;
+        }
+        let mut r = Ok(());
+        for i in batch {
+            r = self.impacts_csv.row(i);
+            if r.is_err() {
+                break;
+            }
+        }
+        self.keep(r);
+        let r = self.h5.impacts(batch).map_err(OutputError::from);
+        self.keep(r);
+    }
+
+    fn shot(&mut self, s: &ShotState) {
+        if self.error.is_some() {
+            return;
+        }
+        let r = self.shots_csv.row(ShotRow::from(s));
+        self.keep(r);
+        let r = self.h5.shot(s).map_err(OutputError::from);
+        self.keep(r);
+    }
 }
 
 /// Writes a ParaView series: `dir/shots_NNNNN.vtp` per snapshot and `dir/shots.pvd`.

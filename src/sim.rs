@@ -250,14 +250,57 @@ struct PairState {
     onset: f64,
 }
 
-/// What a run produced.
+/// What a run produced: its records and its [`RunTail`] (whose fields read through:
+/// `out.work`, `out.events`, ...).
 #[derive(Debug, Clone)]
 pub struct RunOutput {
     /// Impacts sorted by (time, shot).
     pub impacts: Vec<Impact>,
     /// Final shot states, by id.
     pub shots: Vec<ShotState>,
-    /// Shots that had to be stopped.
+    /// Events, counters, snapshots and the scheduler that ran.
+    pub tail: RunTail,
+}
+
+impl std::ops::Deref for RunOutput {
+    type Target = RunTail;
+    fn deref(&self) -> &RunTail {
+        &self.tail
+    }
+}
+
+impl std::ops::DerefMut for RunOutput {
+    fn deref_mut(&mut self) -> &mut RunTail {
+        &mut self.tail
+    }
+}
+
+/// Receives a run's records as they become final (see [`Simulation::run_into`]).
+pub trait RunSink {
+    /// Impacts, in (time, shot) order across all calls.
+    fn impacts(&mut self, batch: &[Impact]);
+    /// A shot's final state, once it stopped (left the domain, failed) or at the end of
+    /// the run: across calls, by the time it stopped, then id; shots still in the domain
+    /// at the end last, by id.
+    fn shot(&mut self, shot: &ShotState);
+}
+
+/// Both sinks get every record.
+impl<A: RunSink, B: RunSink> RunSink for (A, B) {
+    fn impacts(&mut self, batch: &[Impact]) {
+        self.0.impacts(batch);
+        self.1.impacts(batch);
+    }
+    fn shot(&mut self, shot: &ShotState) {
+        self.0.shot(shot);
+        self.1.shot(shot);
+    }
+}
+
+/// What a run produced besides the records handed to its sink.
+#[derive(Debug, Clone)]
+pub struct RunTail {
+    /// Shots that had to be stopped, by (time, shot).
     pub events: Vec<RunEvent>,
     /// Work counters.
     pub work: WorkCounters,
@@ -269,15 +312,176 @@ pub struct RunOutput {
     pub end_time: f64,
     /// Snapshots `(time, shots)` at the requested interval (empty when not asked for).
     pub snapshots: Vec<(f64, Vec<SnapshotPoint>)>,
-    /// The scheduler that ran (`windows`, `events`, or `independent` without shot-shot
-    /// contact).
+    /// The scheduler that ran.
     pub scheduler: &'static str,
+    /// Most shot states held at once: the shots in flight plus, in a stream, those fed
+    /// but not entered yet and finished ones waiting for an older shot to finish (shots
+    /// go to the sink in id order); every shot fed when the run is not streamed.
+    pub peak_shots_held: usize,
+}
+
+/// A sink that keeps everything (what [`Simulation::run`] returns).
+#[derive(Debug, Default)]
+struct Collect {
+    impacts: Vec<Impact>,
+    shots: Vec<ShotState>,
+}
+
+impl RunSink for Collect {
+    fn impacts(&mut self, batch: &[Impact]) {
+        self.impacts.extend_from_slice(batch);
+    }
+    fn shot(&mut self, shot: &ShotState) {
+        self.shots.push(shot.clone());
+    }
+}
+
+/// The shots a run holds, indexed by id over ids `base..base + len`. A streamed run hands
+/// each shot to its sink once it stopped and drops it; the slots of stopped shots behind
+/// an older shot still in the domain (one at rest on the specimen) cost 8 bytes each until
+/// that shot stops, so what a run holds follows the shots in flight, not every shot fed.
+#[derive(Debug, Default)]
+struct ShotStore {
+    base: usize,
+    q: std::collections::VecDeque<Option<Box<ShotState>>>,
+    held: usize,
+}
+
+impl std::ops::Index<usize> for ShotStore {
+    type Output = ShotState;
+    #[inline]
+    fn index(&self, i: usize) -> &ShotState {
+        self.q[i - self.base]
+            .as_deref()
+            .expect("BUG: shot already handed to the sink")
+    }
+}
+
+impl std::ops::IndexMut<usize> for ShotStore {
+    #[inline]
+    fn index_mut(&mut self, i: usize) -> &mut ShotState {
+        self.q[i - self.base]
+            .as_deref_mut()
+            .expect("BUG: shot already handed to the sink")
+    }
+}
+
+/// The order shots are handed to a sink (and listed in shots.csv): by the time they
+/// stopped, then id; shots still in the domain at the end (and any the feed had not
+/// delivered) last, by id.
+pub fn stop_order(a: &ShotState, b: &ShotState) -> std::cmp::Ordering {
+    let t = |s: &ShotState| s.t_stop.unwrap_or(f64::INFINITY);
+    t(a).total_cmp(&t(b)).then(a.id.cmp(&b.id))
+}
+
+impl ShotStore {
+    fn from_vec(v: Vec<ShotState>) -> Self {
+        ShotStore {
+            base: 0,
+            held: v.len(),
+            q: v.into_iter().map(|s| Some(Box::new(s))).collect(),
+        }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &ShotState> {
+        self.q.iter().flatten().map(|b| &**b)
+    }
+
+    /// Shots held.
+    fn held(&self) -> usize {
+        self.held
+    }
+
+    /// Id slots spanned (held shots and the released ones between them).
+    fn span(&self) -> usize {
+        self.q.len()
+    }
+
+    fn push(&mut self, s: ShotState) {
+        debug_assert_eq!(s.id.0 as usize, self.base + self.q.len());
+        self.q.push_back(Some(Box::new(s)));
+        self.held += 1;
+    }
+
+    /// Every shot, by id, moved out (only while none was handed out).
+    fn take_all(&mut self) -> Vec<ShotState> {
+        assert!(
+            self.base == 0 && self.held == self.q.len(),
+            "BUG: shots already handed to the sink"
+        );
+        self.held = 0;
+        self.q
+            .drain(..)
+            .map(|b| *b.expect("BUG: checked"))
+            .collect()
+    }
+
+    /// Hands the shots `ids` (stopped) to `sink` in stop order and drops them.
+    fn release(&mut self, ids: &mut [usize], sink: &mut dyn RunSink) {
+        ids.sort_by(|&a, &b| stop_order(&self[a], &self[b]));
+        for &i in ids.iter() {
+            let s = self.q[i - self.base]
+                .take()
+                .expect("BUG: shot released twice");
+            sink.shot(&s);
+            self.held -= 1;
+        }
+        while self.q.front().is_some_and(|s| s.is_none()) {
+            self.q.pop_front();
+            self.base += 1;
+        }
+    }
+
+    /// Hands every shot still held to `sink` in stop order.
+    fn release_all(&mut self, sink: &mut dyn RunSink) {
+        let mut ids: Vec<usize> = (0..self.q.len())
+            .filter(|&k| self.q[k].is_some())
+            .map(|k| k + self.base)
+            .collect();
+        self.release(&mut ids, sink);
+    }
+}
+
+/// Per-shot scratch values indexed by shot id over the ids a [`ShotStore`] holds.
+#[derive(Debug, Default)]
+struct ById<T> {
+    base: usize,
+    v: Vec<T>,
+}
+
+impl<T: Copy> ById<T> {
+    fn reset(&mut self, store: &ShotStore, fill: T) {
+        self.base = store.base;
+        self.v.clear();
+        self.v.resize(store.span(), fill);
+    }
+}
+
+impl<T> std::ops::Index<usize> for ById<T> {
+    type Output = T;
+    #[inline]
+    fn index(&self, i: usize) -> &T {
+        &self.v[i - self.base]
+    }
+}
+
+impl<T> std::ops::IndexMut<usize> for ById<T> {
+    #[inline]
+    fn index_mut(&mut self, i: usize) -> &mut T {
+        &mut self.v[i - self.base]
+    }
 }
 
 /// A run in progress.
 pub struct Simulation {
     physics: Physics,
-    shots: Vec<ShotState>,
+    shots: ShotStore,
+    /// A stream's generator while shots are created as they enter (streamed windows
+    /// runs), with its next shot; `None` when every shot is in `shots`.
+    feed: Option<(crate::feed::StreamFeed, Option<ShotState>)>,
+    peak_held: usize,
+    /// Shots that stopped in the last window (streamed runs hand them over).
+    stopped: Vec<usize>,
     pairs: HashMap<(u32, u32), PairState>,
     t: f64,
     end: f64,
@@ -298,8 +502,8 @@ pub struct Simulation {
     /// per-window work follows the shots in flight, not every shot fed.
     live: Vec<usize>,
     /// Per-shot reach and kicked flags, reused across windows (entries of `live` only).
-    reach_buf: Vec<f64>,
-    kicked_buf: Vec<bool>,
+    reach_buf: ById<f64>,
+    kicked_buf: ById<bool>,
     scheduler: Scheduler,
 }
 
@@ -318,6 +522,22 @@ impl Simulation {
                     "\"events\" needs ballistic free flight, but {why}; use \"auto\" or \"windows\""
                 ),
             });
+        }
+        // A stream that will run on windows is created shot by shot as the shots enter
+        // (see `run_into`); it is generated once here so that a stream that cannot enter
+        // is refused before anything is written.
+        if matches!(scene.feed, crate::scene::Feed::Stream { .. })
+            && physics.contacts.pair.is_some()
+            && (scheduler == Scheduler::Windows || crate::events::unsuitable(&physics).is_some())
+        {
+            let mut check = crate::feed::StreamFeed::of_scene(scene);
+            while check.next_shot()?.is_some() {}
+            let mut feed = crate::feed::StreamFeed::of_scene(scene);
+            let first = feed.next_shot()?;
+            let mut sim = Simulation::from_parts(physics, Vec::new(), scene.duration)
+                .with_scheduler(scheduler);
+            sim.feed = Some((feed, first));
+            return Ok(sim);
         }
         let shots = crate::feed::initial_shots(scene)?;
         Ok(Simulation::from_parts(physics, shots, scene.duration).with_scheduler(scheduler))
@@ -366,11 +586,14 @@ impl Simulation {
             by_start,
             admitted: 0,
             live: Vec::new(),
-            reach_buf: vec![0.0; n],
-            kicked_buf: vec![false; n],
+            reach_buf: ById::default(),
+            kicked_buf: ById::default(),
             scheduler: Scheduler::Auto,
             physics,
-            shots,
+            shots: ShotStore::from_vec(shots),
+            feed: None,
+            peak_held: n,
+            stopped: Vec::new(),
             pairs: HashMap::default(),
             t: 0.0,
             end,
@@ -404,8 +627,9 @@ impl Simulation {
 
     /// Records shot positions every `interval` seconds (for ParaView series).
     pub fn record_snapshots(&mut self, interval: f64) {
+        self.materialise();
         self.snapshot_interval = Some(interval);
-        for s in &self.shots {
+        for s in self.shots.iter() {
             if s.t_start <= 0.0 {
                 self.snapshot_points.push((
                     0,
@@ -425,13 +649,40 @@ impl Simulation {
         &self.physics
     }
 
-    /// Runs to the end. `progress` receives the finished fraction (0 to 1).
-    pub fn run(mut self, progress: &(dyn Fn(f64) + Sync)) -> RunOutput {
+    /// Runs to the end and returns everything. `progress` receives the finished
+    /// fraction (0 to 1).
+    pub fn run(self, progress: &(dyn Fn(f64) + Sync)) -> RunOutput {
+        let mut all = Collect::default();
+        let tail = self.run_into(&mut all, progress);
+        all.shots.sort_by_key(|s| s.id);
+        RunOutput {
+            impacts: all.impacts,
+            shots: all.shots,
+            tail,
+        }
+    }
+
+    /// Runs to the end, handing impacts and final shot states to `sink` as they become
+    /// final. On windows without snapshots that happens during the run: impacts after
+    /// each window, shots in the window they stopped, and a stream
+    /// feed creates its shots as they enter, so the run holds the shots in flight rather
+    /// than every shot fed ([`RunTail::peak_shots_held`]). The event and independent
+    /// schedulers hold every shot and hand everything over at the end. Same records, in
+    /// the same order, either way.
+    pub fn run_into(mut self, sink: &mut dyn RunSink, progress: &(dyn Fn(f64) + Sync)) -> RunTail {
         let scheduler = self.scheduler_in_use();
+        let streamed = scheduler == "windows" && self.snapshot_interval.is_none();
+        if !streamed {
+            self.materialise();
+        }
         if scheduler == "independent" {
-            self.run_independent(progress);
+            let mut shots = self.shots.take_all();
+            self.run_independent(&mut shots, progress);
+            self.shots = ShotStore::from_vec(shots);
         } else if scheduler == "events" {
-            let out = crate::events::run(&self.physics, &mut self.shots, self.end, progress);
+            let mut shots = self.shots.take_all();
+            let out = crate::events::run(&self.physics, &mut shots, self.end, progress);
+            self.shots = ShotStore::from_vec(shots);
             self.commit_output(out);
         } else {
             while self.t < self.end {
@@ -446,24 +697,73 @@ impl Simulation {
                 let t1 = self.window(t1);
                 self.last_window = t1 - self.t;
                 self.t = t1;
+                if streamed {
+                    // A window's impacts lie inside it: sorted per window, they come out
+                    // in global (time, shot) order.
+                    self.emit_impacts(sink);
+                    let mut stopped = std::mem::take(&mut self.stopped);
+                    self.shots.release(&mut stopped, sink);
+                    stopped.clear();
+                    self.stopped = stopped;
+                } else {
+                    self.stopped.clear();
+                }
                 progress(self.t / self.end);
             }
         }
-        self.impacts
-            .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
+        self.emit_impacts(sink);
         self.events
             .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
         let snapshots = self.collect_snapshots();
-        RunOutput {
+        self.shots.release_all(sink);
+        // Shots the stream would have fed after the end.
+        if let Some((feed, next)) = &mut self.feed {
+            while let Some(mut s) = next.take() {
+                if let Some(field) = &self.physics.forces.field {
+                    s.region = field.region_of(&field.coords(&s.pos));
+                }
+                sink.shot(&s);
+                *next = feed
+                    .next_shot()
+                    .expect("BUG: the stream was checked when the run was set up");
+            }
+        }
+        RunTail {
             snapshots,
-            impacts: self.impacts,
-            shots: self.shots,
             events: self.events,
             work: self.work,
             windows: self.windows,
             window_redos: self.window_redos,
             end_time: self.end,
             scheduler,
+            peak_shots_held: self.peak_held,
+        }
+    }
+
+    /// Sorts the impacts recorded since the last call by (time, shot) and hands them over.
+    fn emit_impacts(&mut self, sink: &mut dyn RunSink) {
+        self.impacts
+            .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
+        if !self.impacts.is_empty() {
+            sink.impacts(&self.impacts);
+        }
+        self.impacts.clear();
+    }
+
+    /// Creates every shot the stream will feed (runs that hold all their shots).
+    fn materialise(&mut self) {
+        if let Some((mut feed, mut next)) = self.feed.take() {
+            while let Some(mut s) = next {
+                if let Some(field) = &self.physics.forces.field {
+                    s.region = field.region_of(&field.coords(&s.pos));
+                }
+                self.by_start.push(s.id.0 as usize);
+                self.shots.push(s);
+                next = feed
+                    .next_shot()
+                    .expect("BUG: the stream was checked when the run was set up");
+            }
+            self.peak_held = self.peak_held.max(self.shots.held());
         }
     }
 
@@ -494,14 +794,13 @@ impl Simulation {
     }
 
     /// No shot-shot contact: every shot flies alone over the whole run.
-    fn run_independent(&mut self, progress: &(dyn Fn(f64) + Sync)) {
+    fn run_independent(&mut self, shots: &mut [ShotState], progress: &(dyn Fn(f64) + Sync)) {
         let phys = &self.physics;
         let end = self.end;
-        let total = self.shots.len().max(1) as f64;
+        let total = shots.len().max(1) as f64;
         let done = std::sync::atomic::AtomicUsize::new(0);
         let snap = self.snapshot_interval;
-        let outputs: Vec<(IslandOutput, Vec<(u64, SnapshotPoint)>)> = self
-            .shots
+        let outputs: Vec<(IslandOutput, Vec<(u64, SnapshotPoint)>)> = shots
             .par_iter_mut()
             .map_init(Scratch::default, |scratch, shot| {
                 let mut out = IslandOutput::default();
@@ -546,8 +845,24 @@ impl Simulation {
             self.admitted += 1;
             added = true;
         }
+        // A stream created as it enters: ids follow entry times.
+        while let Some((feed, next)) = &mut self.feed {
+            let Some(mut s) = next.take_if(|s| due(s.t_start)) else {
+                break;
+            };
+            *next = feed
+                .next_shot()
+                .expect("BUG: the stream was checked when the run was set up");
+            if let Some(field) = &self.physics.forces.field {
+                s.region = field.region_of(&field.coords(&s.pos));
+            }
+            self.live.push(s.id.0 as usize);
+            self.shots.push(s);
+            added = true;
+        }
         if added {
             self.live.sort_unstable();
+            self.peak_held = self.peak_held.max(self.shots.held());
         }
     }
 
@@ -571,6 +886,7 @@ impl Simulation {
                 .iter()
                 .chain(self.by_start.get(self.admitted))
                 .map(|&i| &self.shots[i])
+                .chain(self.feed.as_ref().and_then(|f| f.1.as_ref()))
                 .filter(|s| s.is_active() && s.t_start > self.t)
                 .map(|s| s.t_start)
                 .fold(f64::INFINITY, f64::min);
@@ -599,8 +915,8 @@ impl Simulation {
         &self,
         idx: &[usize],
         widest: &HashSet<(u32, u32)>,
-        reach: &[f64],
-        kicked: &mut [bool],
+        reach: &ById<f64>,
+        kicked: &mut ById<bool>,
         t0: f64,
         t1: f64,
     ) -> HashSet<(u32, u32)> {
@@ -635,7 +951,7 @@ impl Simulation {
             kicked[i] = false;
         }
         let mut stack: Vec<usize> = Vec::new();
-        let mark = |i: usize, kicked: &mut [bool], stack: &mut Vec<usize>| {
+        let mark = |i: usize, kicked: &mut ById<bool>, stack: &mut Vec<usize>| {
             if !kicked[i] {
                 kicked[i] = true;
                 stack.push(i);
@@ -742,6 +1058,8 @@ impl Simulation {
         let widest = self.candidates(&all, t0, t1);
         let mut reach = std::mem::take(&mut self.reach_buf);
         let mut kicked = std::mem::take(&mut self.kicked_buf);
+        reach.reset(&self.shots, 0.0);
+        kicked.reset(&self.shots, false);
         let (idx, mut candidates) = loop {
             let idx: Vec<usize> = all
                 .iter()
@@ -805,7 +1123,16 @@ impl Simulation {
             break;
         }
         let shots = &self.shots;
-        self.live.retain(|&i| shots[i].is_active());
+        let stopped = &mut self.stopped;
+        self.live.retain(|&i| {
+            let active = shots[i].is_active();
+            if !active {
+                stopped.push(i);
+            }
+            active
+        });
+        self.pairs
+            .retain(|k, _| shots[k.0 as usize].is_active() && shots[k.1 as usize].is_active());
         t1
     }
 

@@ -6,8 +6,8 @@
 use crate::counters::WorkCounters;
 use crate::record::{Impact, RunEvent};
 use crate::scene::{EffectDecision, Scene};
-use crate::sim::RunOutput;
-use crate::state::ShotStatus;
+use crate::sim::{RunOutput, RunSink, RunTail};
+use crate::state::{ShotState, ShotStatus};
 use serde::Serialize;
 
 /// Descriptive statistics of a sample.
@@ -218,8 +218,129 @@ pub struct Summary {
     pub windows: u64,
     /// Windows re-run after an unpaired overlap.
     pub window_redos: u64,
+    /// Most shot states the run held at once (streamed windows runs: the shots in flight
+    /// and those waiting to be written in id order; otherwise every shot fed).
+    pub peak_shots_held: usize,
     /// Shots stopped, with time, cause and suggested fix.
     pub events: Vec<RunEvent>,
+}
+
+/// Builds a summary from the records as a run hands them over (a [`RunSink`]): counts,
+/// and the few numbers per first hit that exact percentiles need (40 bytes per shot
+/// that hits), never the records themselves.
+#[derive(Debug, Clone, Default)]
+pub struct SummaryBuilder {
+    normal: Vec<f64>,
+    speed: Vec<f64>,
+    radius: Vec<f64>,
+    impacts: usize,
+    shots: usize,
+    shots_hit: usize,
+    left_domain: usize,
+    failed: usize,
+    to_first_contact: Vec<u64>,
+    first_contact: Vec<u64>,
+    collisions: u64,
+    wall_contacts: u64,
+}
+
+impl RunSink for SummaryBuilder {
+    fn impacts(&mut self, batch: &[Impact]) {
+        self.impacts += batch.len();
+        for i in batch.iter().filter(|i| i.first_hit == 1) {
+            self.normal.push(i.normal_speed_m_s);
+            self.speed.push(i.speed_m_s);
+            self.radius.push(i.radius_m());
+        }
+    }
+
+    fn shot(&mut self, s: &ShotState) {
+        self.shots += 1;
+        if s.hits > 0 {
+            self.shots_hit += 1;
+            self.first_contact.push(s.first_contact_steps);
+        }
+        match s.status {
+            ShotStatus::LeftDomain => self.left_domain += 1,
+            ShotStatus::Failed => self.failed += 1,
+            ShotStatus::Active => {}
+        }
+        if let Some(k) = s.steps_to_first_contact {
+            self.to_first_contact.push(k);
+        }
+        self.collisions += s.collisions as u64;
+        self.wall_contacts += s.wall_contacts as u64;
+    }
+}
+
+impl SummaryBuilder {
+    /// The summary of the run whose records this builder received.
+    pub fn finish(
+        self,
+        scene: &Scene,
+        effects: &[EffectDecision],
+        run: &RunTail,
+        wall_time: f64,
+        threads: usize,
+    ) -> Summary {
+        let n = self.shots;
+        let first_hits = self.normal.len();
+        let radius_mm: Vec<f64> = self.radius.iter().map(|r| r * 1e3).collect();
+        Summary {
+            tool: "peenflow".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            scene: scene.path.clone(),
+            title: scene.title.clone(),
+            seed: scene.seed,
+            simulated_time_s: run.end_time,
+            shots: n,
+            shots_expected: scene.feed.expected_count(),
+            shots_hit: self.shots_hit,
+            hit_fraction: if n > 0 {
+                self.shots_hit as f64 / n as f64
+            } else {
+                0.0
+            },
+            never_hit: n - self.shots_hit,
+            left_domain: self.left_domain,
+            failed: self.failed,
+            impacts: self.impacts,
+            first_hits,
+            rebound_hits: self.impacts - first_hits,
+            normal_speed_m_s: Stats::of(&self.normal),
+            speed_m_s: Stats::of(&self.speed),
+            radius_m: Stats::of(&self.radius),
+            normal_speed_histogram: Histogram::new(
+                "normal impact speed, m/s",
+                &self.normal,
+                5.0,
+                30,
+            ),
+            radius_histogram: Histogram::new("impact radius, mm", &radius_mm, 5.0, 10),
+            effects: effects.to_vec(),
+            wall_time_s: wall_time,
+            threads,
+            steps: StepReport {
+                accepted: run.work.steps_accepted,
+                rejected: run.work.steps_rejected,
+                shot_steps: run.work.shot_steps,
+                rhs_evaluations: run.work.rhs_evaluations,
+                flight_to_first_contact: CountStats::of(self.to_first_contact),
+                first_contact: CountStats::of(self.first_contact),
+            },
+            contacts: ContactReport {
+                shot_specimen: self.impacts,
+                shot_shot: self.collisions / 2,
+                shot_wall: self.wall_contacts,
+            },
+            work: run.work,
+            scheduler: run.scheduler.to_string(),
+            windows: run.windows,
+            window_redos: run.window_redos,
+            peak_shots_held: run.peak_shots_held,
+            events: run.events.clone(),
+        }
+    }
 }
 
 impl Summary {
@@ -231,80 +352,12 @@ impl Summary {
         wall_time: f64,
         threads: usize,
     ) -> Summary {
-        let first: Vec<&Impact> = out.impacts.iter().filter(|i| i.first_hit == 1).collect();
-        let normal: Vec<f64> = first.iter().map(|i| i.normal_speed_m_s).collect();
-        let speed: Vec<f64> = first.iter().map(|i| i.speed_m_s).collect();
-        let radius: Vec<f64> = first.iter().map(|i| i.radius_m()).collect();
-        let radius_mm: Vec<f64> = radius.iter().map(|r| r * 1e3).collect();
-        let shots_hit = out.shots.iter().filter(|s| s.hits > 0).count();
-        let n = out.shots.len();
-        Summary {
-            tool: "peenflow".into(),
-            version: env!("CARGO_PKG_VERSION").into(),
-            scene: scene.path.clone(),
-            title: scene.title.clone(),
-            seed: scene.seed,
-            simulated_time_s: out.end_time,
-            shots: n,
-            shots_expected: scene.feed.expected_count(),
-            shots_hit,
-            hit_fraction: if n > 0 {
-                shots_hit as f64 / n as f64
-            } else {
-                0.0
-            },
-            never_hit: n - shots_hit,
-            left_domain: out
-                .shots
-                .iter()
-                .filter(|s| s.status == ShotStatus::LeftDomain)
-                .count(),
-            failed: out
-                .shots
-                .iter()
-                .filter(|s| s.status == ShotStatus::Failed)
-                .count(),
-            impacts: out.impacts.len(),
-            first_hits: first.len(),
-            rebound_hits: out.impacts.len() - first.len(),
-            normal_speed_m_s: Stats::of(&normal),
-            speed_m_s: Stats::of(&speed),
-            radius_m: Stats::of(&radius),
-            normal_speed_histogram: Histogram::new("normal impact speed, m/s", &normal, 5.0, 30),
-            radius_histogram: Histogram::new("impact radius, mm", &radius_mm, 5.0, 10),
-            effects: effects.to_vec(),
-            wall_time_s: wall_time,
-            threads,
-            steps: StepReport {
-                accepted: out.work.steps_accepted,
-                rejected: out.work.steps_rejected,
-                shot_steps: out.work.shot_steps,
-                rhs_evaluations: out.work.rhs_evaluations,
-                flight_to_first_contact: CountStats::of(
-                    out.shots
-                        .iter()
-                        .filter_map(|s| s.steps_to_first_contact)
-                        .collect(),
-                ),
-                first_contact: CountStats::of(
-                    out.shots
-                        .iter()
-                        .filter(|s| s.hits > 0)
-                        .map(|s| s.first_contact_steps)
-                        .collect(),
-                ),
-            },
-            contacts: ContactReport {
-                shot_specimen: out.impacts.len(),
-                shot_shot: out.shots.iter().map(|s| s.collisions as u64).sum::<u64>() / 2,
-                shot_wall: out.shots.iter().map(|s| s.wall_contacts as u64).sum(),
-            },
-            work: out.work,
-            scheduler: out.scheduler.to_string(),
-            windows: out.windows,
-            window_redos: out.window_redos,
-            events: out.events.clone(),
+        let mut b = SummaryBuilder::default();
+        b.impacts(&out.impacts);
+        for s in &out.shots {
+            b.shot(s);
         }
+        b.finish(scene, effects, out, wall_time, threads)
     }
 
     /// Short human-readable report.

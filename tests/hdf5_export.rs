@@ -23,6 +23,27 @@ fn have_h5py() -> bool {
     ok
 }
 
+/// Runs tests/tools/check_h5.py (h5py) on `h5` against `csv`; its output ("ok N"), or
+/// `None` when h5py is not installed outside CI.
+fn h5py_check(h5: &std::path::Path, csv: &std::path::Path) -> Option<String> {
+    if !have_h5py() {
+        return None;
+    }
+    let o = Command::new("python3")
+        .arg(root().join("tests/tools/check_h5.py"))
+        .arg(h5)
+        .arg(csv)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    Some(out)
+}
+
 #[test]
 fn impacts_h5_matches_the_run_and_impacts_csv() {
     let tmp = tempfile::tempdir().unwrap();
@@ -40,19 +61,7 @@ fn impacts_h5_matches_the_run_and_impacts_csv() {
     assert_eq!(file.scene_text, peenflow::scene::DEFAULT_SCENE);
     assert!(!dir.join(".impacts.h5.tmp").exists());
     // The official library.
-    if have_h5py() {
-        let o = Command::new("python3")
-            .arg(root().join("tests/tools/check_h5.py"))
-            .arg(dir.join("impacts.h5"))
-            .arg(dir.join("impacts.csv"))
-            .output()
-            .unwrap();
-        let out = String::from_utf8_lossy(&o.stdout);
-        assert!(
-            o.status.success(),
-            "{out}{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+    if let Some(out) = h5py_check(&dir.join("impacts.h5"), &dir.join("impacts.csv")) {
         assert!(out.starts_with("ok ") && out.trim() != "ok 0", "{out}");
     }
 }
@@ -65,15 +74,10 @@ fn a_run_without_impacts_writes_empty_datasets() {
     assert!(o.status.success());
     let file = peenflow::export::hdf5::read(&tmp.path().join("out/impacts.h5")).unwrap();
     assert!(file.impacts.is_empty());
-    if have_h5py() {
-        let o = Command::new("python3")
-            .arg(root().join("tests/tools/check_h5.py"))
-            .arg(tmp.path().join("out/impacts.h5"))
-            .arg(tmp.path().join("out/impacts.csv"))
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    }
+    h5py_check(
+        &tmp.path().join("out/impacts.h5"),
+        &tmp.path().join("out/impacts.csv"),
+    );
 }
 
 #[test]
@@ -109,4 +113,75 @@ fn killed_runs_never_leave_a_truncated_impacts_h5() {
         }
     }
     let _ = seen_complete; // both outcomes occur depending on machine speed
+}
+
+/// Tables longer than one write block (8,192 rows) are written as chunked datasets block
+/// by block while the run goes (the writer never holds more than a block): peenflow's
+/// reader and the official library must read every value back, rows in order.
+#[test]
+fn long_tables_are_written_block_by_block_and_read_back_exactly() {
+    use peenflow::Vec3;
+    use peenflow::forces::ShotBody;
+    use peenflow::record::Impact;
+    use peenflow::state::{ShotId, ShotState};
+    let n = 20_000u32;
+    let body = ShotBody {
+        radius: 4e-4,
+        mass: 2.1e-6,
+    };
+    let impacts: Vec<Impact> = (0..n)
+        .map(|k| {
+            let f = k as f64;
+            Impact::new(
+                k / 2,
+                1e-3 + f * 1e-7,
+                &Vec3::new(1e-3 * (f * 0.37).sin(), 1e-3 * (f * 0.11).cos(), 4e-4),
+                &Vec3::new(0.1 * (f * 0.7).sin(), -0.2, -60.0 - (f % 17.0)),
+                &Vec3::new(0.0, f, -f),
+                body.radius,
+                body.mass,
+                k % 5,
+                k % 2 == 0,
+            )
+        })
+        .collect();
+    let shots: Vec<ShotState> = (0..n)
+        .map(|k| {
+            let mut s = ShotState::new(
+                ShotId(k),
+                Vec3::new(k as f64 * 1e-5, 0.0, 0.01),
+                Vec3::new(0.0, 0.0, -70.0),
+                body,
+                k as f64 * 1e-6,
+            );
+            s.hits = if k < n / 2 { 2 } else { 0 };
+            s
+        })
+        .collect();
+    let scene = peenflow::scene::Scene::default_scene();
+    let out = peenflow::sim::RunOutput {
+        impacts,
+        shots,
+        tail: peenflow::sim::RunTail {
+            events: Vec::new(),
+            work: Default::default(),
+            windows: 1,
+            window_redos: 0,
+            end_time: 0.01,
+            snapshots: Vec::new(),
+            scheduler: "windows",
+            peak_shots_held: n as usize,
+        },
+    };
+    let summary = peenflow::summary::Summary::new(&scene, &[], &out, 0.0, 1);
+    let tmp = tempfile::tempdir().unwrap();
+    peenflow::output::write_run(tmp.path(), &scene, &out, &summary).unwrap();
+    let file = peenflow::export::hdf5::read(&tmp.path().join("impacts.h5")).unwrap();
+    assert_eq!(file.impacts, out.impacts);
+    if let Some(out) = h5py_check(
+        &tmp.path().join("impacts.h5"),
+        &tmp.path().join("impacts.csv"),
+    ) {
+        assert_eq!(out.trim(), format!("ok {n}"));
+    }
 }

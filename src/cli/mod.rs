@@ -7,7 +7,6 @@ use crate::export::{self, ExportRequest, deck::UnitSystem, select::Selection};
 use crate::output;
 use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
-use crate::summary::Summary;
 use anyhow::{Context, Result, bail};
 pub use args::{
     AccuracyArgs, Cli, Command, CoverageArgs, ExportArgs, InitArgs, MergeArgs, RunArgs, SweepArgs,
@@ -107,18 +106,25 @@ fn run_scene(a: RunArgs) -> Result<()> {
         1000,
         "{spinner} [{elapsed_precise}] {bar:40} {percent:>3}% (eta {eta})",
     );
+    // Records go to the files as the run hands them over: the run holds the shots in
+    // flight, not every impact and shot (see `Simulation::run_into`).
+    let mut sink = (
+        output::RunWriter::create(&a.out)?,
+        crate::summary::SummaryBuilder::default(),
+    );
     let started = Instant::now();
-    let out = sim.run(&|f| bar.set_position((f * 1000.0) as u64));
+    let out = sim.run_into(&mut sink, &|f| bar.set_position((f * 1000.0) as u64));
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
-    let summary = Summary::new(
+    let (writer, builder) = sink;
+    let summary = builder.finish(
         &scene,
         &effects.decisions,
         &out,
         wall,
         rayon::current_num_threads(),
     );
-    output::write_run(&a.out, &scene, &out, &summary)?;
+    writer.finish(&scene, out.end_time, &summary)?;
     if !out.snapshots.is_empty() {
         output::write_snapshots(&a.out.join("snapshots"), &out.snapshots)?;
     }
@@ -139,8 +145,9 @@ fn run_scene(a: RunArgs) -> Result<()> {
             out: a.out.clone(),
             force: true,
         };
-        let source = a.out.join("impacts.h5").display().to_string();
-        exported = export::export(&out.impacts, &scene, &source, &req)?;
+        let h5 = a.out.join("impacts.h5");
+        let impacts = crate::export::hdf5::read(&h5)?.impacts;
+        exported = export::export(&impacts, &scene, &h5.display().to_string(), &req)?;
     }
     if !a.quiet {
         print!("{}", summary.text());

@@ -8,11 +8,15 @@
 //!                               scene_path, simulated_time_s, summary_json
 //! /impacts/<column>      the columns of impacts.csv, one value per impact
 //! /shots/<column>        every shot's final state (status_code: 0 active, 1 left the
-//!                        domain, 2 failed)
+//!                        domain, 2 failed), in the order of shots.csv: by the time
+//!                        the shot stopped, then id; shots in the domain at the end last
 //! /never_hit/<column>    the same columns for the shots that never reached the specimen
 //! /summary/normal_speed_histogram/{lower_edges, counts}, /summary/radius_histogram/...
 //! ```
-//! The file is written under a temporary name and renamed when closed.
+//! The file is written under a temporary name and renamed when closed. A table that fits
+//! in one block of 8,192 rows is stored as contiguous datasets; a longer one as chunked
+//! datasets (8,192-row chunks) extended block by block while the run goes, so the writer
+//! never holds more than a block per table.
 
 use crate::record::Impact;
 use crate::state::{ShotState, ShotStatus};
@@ -280,17 +284,28 @@ pub(crate) fn write_columns(g: &H5Group, cols: &[Column], path: &Path) -> Result
             Column::U32(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
             Column::U8(n, u, d, v) => (dataset(g, n, v, &e)?, u, d),
         };
-        ds.new_attr::<rust_hdf5::VarLenUnicode>()
-            .shape(())
-            .create("units")
-            .and_then(|a| a.write_string(units))
-            .map_err(&e)?;
-        ds.new_attr::<rust_hdf5::VarLenUnicode>()
-            .shape(())
-            .create("description")
-            .and_then(|a| a.write_string(desc))
-            .map_err(&e)?;
+        describe(&ds, units, desc, &e)?;
     }
+    Ok(())
+}
+
+/// The `units` and `description` attributes of a column dataset.
+fn describe(
+    ds: &rust_hdf5::H5Dataset,
+    units: &str,
+    desc: &str,
+    e: &impl Fn(rust_hdf5::Hdf5Error) -> H5Error,
+) -> Result<(), H5Error> {
+    ds.new_attr::<rust_hdf5::VarLenUnicode>()
+        .shape(())
+        .create("units")
+        .and_then(|a| a.write_string(units))
+        .map_err(e)?;
+    ds.new_attr::<rust_hdf5::VarLenUnicode>()
+        .shape(())
+        .create("description")
+        .and_then(|a| a.write_string(desc))
+        .map_err(e)?;
     Ok(())
 }
 
@@ -337,16 +352,8 @@ fn temp_path(path: &Path) -> PathBuf {
 
 /// Everything impacts.h5 holds.
 pub struct ImpactFileData<'a> {
-    /// Scene TOML text.
-    pub scene_text: &'a str,
-    /// Scene file name.
-    pub scene_path: &'a str,
-    /// Scene title.
-    pub title: &'a str,
-    /// Seed.
-    pub seed: u64,
-    /// Simulated time, s.
-    pub simulated_time: f64,
+    /// The root attributes.
+    pub head: FileHead<'a>,
     /// Impacts.
     pub impacts: &'a [Impact],
     /// Final shot states.
@@ -384,75 +391,282 @@ pub(crate) fn write_atomic(
 }
 
 fn write_inner(tmp: &Path, shown: &Path, d: &ImpactFileData<'_>) -> Result<(), H5Error> {
-    let e = werr(shown);
-    let file = H5File::create(tmp).map_err(&e)?;
-    file.set_attr_string("format", FORMAT).map_err(&e)?;
-    file.set_attr_string("tool", "peenflow").map_err(&e)?;
-    file.set_attr_string("tool_version", env!("CARGO_PKG_VERSION"))
-        .map_err(&e)?;
-    file.set_attr_numeric("seed", &d.seed).map_err(&e)?;
-    file.set_attr_string("title", d.title).map_err(&e)?;
-    file.set_attr_string("scene", d.scene_text).map_err(&e)?;
-    file.set_attr_string("scene_path", d.scene_path)
-        .map_err(&e)?;
-    file.set_attr_numeric("simulated_time_s", &d.simulated_time)
-        .map_err(&e)?;
-    let json = serde_json::to_string(d.summary).expect("BUG: summary serialises");
-    file.set_attr_string("summary_json", &json).map_err(&e)?;
-    let root = file.root_group();
-    let seed_col = |v: Vec<u64>| {
-        Column::U64(
-            "seed",
-            "1",
-            "seed of the run the row comes from (files pooling several seeds)",
-            v,
-        )
-    };
-    let g = root.create_group("impacts").map_err(&e)?;
-    let mut cols = impact_columns(d.impacts);
-    if let Some((per_impact, _)) = d.seeds {
-        cols.push(seed_col(per_impact.to_vec()));
+    let mut w = Tables::create(tmp, shown, d.seeds.is_some())?;
+    w.impacts(d.impacts, d.seeds.map(|s| s.0))?;
+    w.shots(d.shots, d.seeds.map(|s| s.1))?;
+    w.finish(&d.head, d.summary)
+}
+
+/// Rows per block when a table is written as it comes: a table that fits in one block
+/// is written as contiguous datasets (small runs); longer tables as chunked datasets
+/// extended block by block, so the writer holds at most one block per table.
+const BLOCK: usize = 8192;
+
+/// One group of 1-D column datasets, filled as rows come.
+struct Table<T> {
+    group: H5Group,
+    columns: fn(&[T]) -> Vec<Column>,
+    rows: Vec<T>,
+    seeds: Option<Vec<u64>>,
+    sets: Option<Vec<rust_hdf5::H5Dataset>>,
+}
+
+fn seed_col(v: Vec<u64>) -> Column {
+    Column::U64(
+        "seed",
+        "1",
+        "seed of the run the row comes from (files pooling several seeds)",
+        v,
+    )
+}
+
+impl<T: Clone> Table<T> {
+    fn new(group: H5Group, columns: fn(&[T]) -> Vec<Column>, seeded: bool) -> Self {
+        Table {
+            group,
+            columns,
+            rows: Vec::new(),
+            seeds: seeded.then(Vec::new),
+            sets: None,
+        }
     }
-    write_columns(&g, &cols, shown)?;
-    let all: Vec<&ShotState> = d.shots.iter().collect();
-    let g = root.create_group("shots").map_err(&e)?;
-    let mut cols = shot_columns(&all);
-    if let Some((_, per_shot)) = d.seeds {
-        cols.push(seed_col(per_shot.to_vec()));
+
+    fn push(&mut self, row: &T, seed: Option<u64>, shown: &Path) -> Result<(), H5Error> {
+        self.rows.push(row.clone());
+        if let (Some(v), Some(s)) = (&mut self.seeds, seed) {
+            v.push(s);
+        }
+        if self.rows.len() == BLOCK {
+            self.flush(shown)?;
+        }
+        Ok(())
     }
-    write_columns(&g, &cols, shown)?;
-    let never: Vec<usize> = (0..d.shots.len())
-        .filter(|&k| d.shots[k].hits == 0)
-        .collect();
-    let g = root.create_group("never_hit").map_err(&e)?;
-    let mut cols = shot_columns(&never.iter().map(|&k| &d.shots[k]).collect::<Vec<_>>());
-    if let Some((_, per_shot)) = d.seeds {
-        cols.push(seed_col(never.iter().map(|&k| per_shot[k]).collect()));
+
+    fn block(&self) -> Vec<Column> {
+        let mut cols = (self.columns)(&self.rows);
+        if let Some(s) = &self.seeds {
+            cols.push(seed_col(s.clone()));
+        }
+        cols
     }
-    write_columns(&g, &cols, shown)?;
-    let g = root.create_group("summary").map_err(&e)?;
-    g.set_attr_numeric("hit_fraction", &d.summary.hit_fraction)
-        .map_err(&e)?;
-    g.set_attr_numeric("shots", &(d.summary.shots as u64))
-        .map_err(&e)?;
-    g.set_attr_numeric("shots_hit", &(d.summary.shots_hit as u64))
-        .map_err(&e)?;
-    write_histogram(
-        &g,
-        "normal_speed_histogram",
-        &d.summary.normal_speed_histogram,
-        "m/s",
-        shown,
-    )?;
-    write_histogram(
-        &g,
-        "radius_histogram",
-        &d.summary.radius_histogram,
-        "mm",
-        shown,
-    )?;
-    file.close().map_err(&e)?;
-    Ok(())
+
+    /// Appends the buffered rows to chunked datasets (created at the first block).
+    fn flush(&mut self, shown: &Path) -> Result<(), H5Error> {
+        let e = werr(shown);
+        let cols = self.block();
+        if self.sets.is_none() {
+            fn chunked<T: rust_hdf5::types::H5Type>(
+                g: &H5Group,
+                name: &str,
+            ) -> rust_hdf5::Result<rust_hdf5::H5Dataset> {
+                g.new_dataset::<T>()
+                    .shape([0])
+                    .chunk(&[BLOCK])
+                    .resizable()
+                    .create(name)
+            }
+            let mut sets = Vec::with_capacity(cols.len());
+            for c in &cols {
+                let (ds, units, desc) = match c {
+                    Column::F64(n, u, d, _) => (chunked::<f64>(&self.group, n), u, d),
+                    Column::U64(n, u, d, _) => (chunked::<u64>(&self.group, n), u, d),
+                    Column::U32(n, u, d, _) => (chunked::<u32>(&self.group, n), u, d),
+                    Column::U8(n, u, d, _) => (chunked::<u8>(&self.group, n), u, d),
+                };
+                let ds = ds.map_err(&e)?;
+                describe(&ds, units, desc, &e)?;
+                sets.push(ds);
+            }
+            self.sets = Some(sets);
+        }
+        let sets = self.sets.as_ref().expect("BUG: datasets just created");
+        for (ds, c) in sets.iter().zip(&cols) {
+            match c {
+                Column::F64(.., v) => ds.append(v),
+                Column::U64(.., v) => ds.append(v),
+                Column::U32(.., v) => ds.append(v),
+                Column::U8(.., v) => ds.append(v),
+            }
+            .map_err(&e)?;
+        }
+        self.rows.clear();
+        if let Some(v) = &mut self.seeds {
+            v.clear();
+        }
+        Ok(())
+    }
+
+    fn finish(mut self, shown: &Path) -> Result<(), H5Error> {
+        if self.sets.is_none() {
+            write_columns(&self.group, &self.block(), shown)
+        } else if !self.rows.is_empty() {
+            self.flush(shown)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// The root attributes of impacts.h5.
+pub struct FileHead<'a> {
+    /// Scene TOML text.
+    pub scene_text: &'a str,
+    /// Scene file name.
+    pub scene_path: &'a str,
+    /// Scene title.
+    pub title: &'a str,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated time, s.
+    pub simulated_time: f64,
+}
+
+/// The three tables of impacts.h5 being written.
+struct Tables {
+    file: H5File,
+    shown: PathBuf,
+    impacts: Table<Impact>,
+    shots: Table<ShotState>,
+    never_hit: Table<ShotState>,
+}
+
+fn shot_table(v: &[ShotState]) -> Vec<Column> {
+    shot_columns(&v.iter().collect::<Vec<_>>())
+}
+
+impl Tables {
+    fn create(tmp: &Path, shown: &Path, seeded: bool) -> Result<Self, H5Error> {
+        let e = werr(shown);
+        let file = H5File::create(tmp).map_err(&e)?;
+        let root = file.root_group();
+        let g = |name: &str| root.create_group(name).map_err(&e);
+        Ok(Tables {
+            impacts: Table::new(g("impacts")?, impact_columns, seeded),
+            shots: Table::new(g("shots")?, shot_table, seeded),
+            never_hit: Table::new(g("never_hit")?, shot_table, seeded),
+            shown: shown.to_path_buf(),
+            file,
+        })
+    }
+
+    fn impacts(&mut self, v: &[Impact], seeds: Option<&[u64]>) -> Result<(), H5Error> {
+        for (k, i) in v.iter().enumerate() {
+            self.impacts.push(i, seeds.map(|s| s[k]), &self.shown)?;
+        }
+        Ok(())
+    }
+
+    fn shots(&mut self, v: &[ShotState], seeds: Option<&[u64]>) -> Result<(), H5Error> {
+        for (k, s) in v.iter().enumerate() {
+            let seed = seeds.map(|x| x[k]);
+            self.shots.push(s, seed, &self.shown)?;
+            if s.hits == 0 {
+                self.never_hit.push(s, seed, &self.shown)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn finish(self, head: &FileHead<'_>, summary: &Summary) -> Result<(), H5Error> {
+        let shown = self.shown.as_path();
+        let e = werr(shown);
+        self.impacts.finish(shown)?;
+        self.shots.finish(shown)?;
+        self.never_hit.finish(shown)?;
+        let file = self.file;
+        file.set_attr_string("format", FORMAT).map_err(&e)?;
+        file.set_attr_string("tool", "peenflow").map_err(&e)?;
+        file.set_attr_string("tool_version", env!("CARGO_PKG_VERSION"))
+            .map_err(&e)?;
+        file.set_attr_numeric("seed", &head.seed).map_err(&e)?;
+        file.set_attr_string("title", head.title).map_err(&e)?;
+        file.set_attr_string("scene", head.scene_text).map_err(&e)?;
+        file.set_attr_string("scene_path", head.scene_path)
+            .map_err(&e)?;
+        file.set_attr_numeric("simulated_time_s", &head.simulated_time)
+            .map_err(&e)?;
+        let json = serde_json::to_string(summary).expect("BUG: summary serialises");
+        file.set_attr_string("summary_json", &json).map_err(&e)?;
+        let g = file.root_group().create_group("summary").map_err(&e)?;
+        g.set_attr_numeric("hit_fraction", &summary.hit_fraction)
+            .map_err(&e)?;
+        g.set_attr_numeric("shots", &(summary.shots as u64))
+            .map_err(&e)?;
+        g.set_attr_numeric("shots_hit", &(summary.shots_hit as u64))
+            .map_err(&e)?;
+        write_histogram(
+            &g,
+            "normal_speed_histogram",
+            &summary.normal_speed_histogram,
+            "m/s",
+            shown,
+        )?;
+        write_histogram(
+            &g,
+            "radius_histogram",
+            &summary.radius_histogram,
+            "mm",
+            shown,
+        )?;
+        file.close().map_err(&e)?;
+        Ok(())
+    }
+}
+
+/// impacts.h5 written as a run hands over its records (see [`crate::sim::RunSink`]):
+/// under a temporary name, renamed by [`ImpactStream::finish`], removed if dropped
+/// unfinished. Holds at most one block of rows per table.
+pub struct ImpactStream {
+    tables: Option<Tables>,
+    tmp: PathBuf,
+    path: PathBuf,
+}
+
+impl ImpactStream {
+    /// Starts writing `path`.
+    pub fn create(path: &Path) -> Result<Self, H5Error> {
+        let tmp = temp_path(path);
+        Ok(ImpactStream {
+            tables: Some(Tables::create(&tmp, path, false)?),
+            tmp,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// Appends impacts (in the order they are to be stored).
+    pub fn impacts(&mut self, v: &[Impact]) -> Result<(), H5Error> {
+        self.tables
+            .as_mut()
+            .expect("BUG: impact stream used after finish")
+            .impacts(v, None)
+    }
+
+    /// Appends one final shot state (to `shots`, and to `never_hit` if it never hit).
+    pub fn shot(&mut self, s: &ShotState) -> Result<(), H5Error> {
+        self.tables
+            .as_mut()
+            .expect("BUG: impact stream used after finish")
+            .shots(std::slice::from_ref(s), None)
+    }
+
+    /// Writes the root attributes and the summary, closes the file and renames it.
+    pub fn finish(mut self, head: &FileHead<'_>, summary: &Summary) -> Result<(), H5Error> {
+        let tables = self
+            .tables
+            .take()
+            .expect("BUG: impact stream finished twice");
+        // `tables` writes to `self.tmp`, the name `write_atomic` renames (or removes).
+        write_atomic(&self.path, move |_| tables.finish(head, summary))
+    }
+}
+
+impl Drop for ImpactStream {
+    fn drop(&mut self) {
+        if let Some(t) = self.tables.take() {
+            drop(t);
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 /// What `peenflow export` needs from an impact file.

@@ -21,7 +21,7 @@ use crate::export::hdf5::{self as h5, H5Error};
 use crate::output::{self, OutputError};
 use crate::plot::{self, PlotError};
 use crate::scene::SceneError;
-use crate::sim::{RunOutput, Simulation};
+use crate::sim::{RunOutput, RunTail, Simulation};
 use crate::summary::Summary;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -440,13 +440,16 @@ fn write_case(
     let mut pooled = RunOutput {
         impacts: Vec::new(),
         shots: Vec::new(),
-        events: Vec::new(),
-        work: Default::default(),
-        windows: 0,
-        window_redos: 0,
-        end_time: 0.0,
-        snapshots: Vec::new(),
-        scheduler: runs.first().map_or("windows", |r| r.1.scheduler),
+        tail: RunTail {
+            events: Vec::new(),
+            work: Default::default(),
+            windows: 0,
+            window_redos: 0,
+            end_time: 0.0,
+            snapshots: Vec::new(),
+            scheduler: runs.first().map_or("windows", |r| r.1.scheduler),
+            peak_shots_held: 0,
+        },
     };
     let mut impact_seeds = Vec::new();
     let mut shot_seeds = Vec::new();
@@ -460,6 +463,7 @@ fn write_case(
         pooled.windows += out.windows;
         pooled.window_redos += out.window_redos;
         pooled.end_time = pooled.end_time.max(out.end_time);
+        pooled.peak_shots_held = pooled.peak_shots_held.max(out.peak_shots_held);
     }
     let mut scene = case.scene.clone();
     scene.seed = runs[0].0;
@@ -469,11 +473,13 @@ fn write_case(
     h5::write(
         &tmp.join("impacts.h5"),
         &h5::ImpactFileData {
-            scene_text: &case.scene_text,
-            scene_path: &scene.path,
-            title: &scene.title,
-            seed: scene.seed,
-            simulated_time: pooled.end_time,
+            head: h5::FileHead {
+                scene_text: &case.scene_text,
+                scene_path: &scene.path,
+                title: &scene.title,
+                seed: scene.seed,
+                simulated_time: pooled.end_time,
+            },
             impacts: &pooled.impacts,
             shots: &pooled.shots,
             summary: &pooled_summary,

@@ -19,9 +19,10 @@ with h5py.File(h5_path, "r") as f:
         ds = g[name]
         assert ds.attrs["units"], f"{name}: no units"
         assert len(ds) == len(rows), f"{name}: {len(ds)} rows in HDF5, {len(rows)} in CSV"
+        values = ds[()]
         for k, row in enumerate(rows):
             want = float(row[name])
-            got = float(ds[k])
+            got = float(values[k])
             assert got == want, f"{name}[{k}]: h5 {got!r} csv {want!r}"
     for grp in ("shots", "never_hit", "summary/normal_speed_histogram", "summary/radius_histogram"):
         assert grp in f, f"group {grp} missing"
