@@ -204,7 +204,8 @@ impl SnapshotTap {
     }
 }
 
-/// Advances an island, recording snapshots when asked.
+/// Advances an island over a window, recording snapshots when asked. A lone shot (one
+/// member, no pair) takes its own steps across windows (`island::advance_alone`).
 #[allow(clippy::too_many_arguments)]
 fn advance_island(
     phys: &Physics,
@@ -216,19 +217,19 @@ fn advance_island(
     out: &mut IslandOutput,
     snapshot_interval: Option<f64>,
 ) -> Vec<(u64, SnapshotPoint)> {
-    match snapshot_interval {
-        None => {
-            island::advance(phys, members, pairs, t0, t1, scratch, out);
-            Vec::new()
+    let mut tap = snapshot_interval
+        .map(|dt| SnapshotTap::new(dt, t0, members, phys.contacts.friction.is_some()));
+    let mut observe = |t: f64, y: &[f64]| {
+        if let Some(tap) = tap.as_mut() {
+            tap.on_step(t, y);
         }
-        Some(dt) => {
-            let mut tap = SnapshotTap::new(dt, t0, members, phys.contacts.friction.is_some());
-            island::advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut |t, y| {
-                tap.on_step(t, y)
-            });
-            tap.points
-        }
+    };
+    if let ([m], []) = (&mut *members, &*pairs) {
+        island::advance_alone(phys, m, t0, t1, scratch, out, &mut observe);
+    } else {
+        island::advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut observe);
     }
+    tap.map_or_else(Vec::new, |t| t.points)
 }
 
 /// The candidate pairs (global ids) of one island.

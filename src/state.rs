@@ -95,6 +95,11 @@ pub struct ShotState {
     pub first_contact_steps: u64,
     /// Time (s) when the shot was stopped (left the domain or failed), if it was.
     pub t_stop: Option<f64>,
+    /// A lone free-flying shot's last step when it ran past the window end (windows
+    /// scheduler): `pos`, `vel` and `omega` are then its dense output at the window end,
+    /// and the next window goes on from the step's exact end (see
+    /// [`crate::integrate::island::advance_alone`]).
+    pub ahead: Option<std::sync::Arc<crate::integrate::dopri::DenseStep>>,
 }
 
 impl ShotState {
@@ -126,6 +131,7 @@ impl ShotState {
             steps_to_first_contact: None,
             first_contact_steps: 0,
             t_stop: None,
+            ahead: None,
         }
     }
 

@@ -45,6 +45,54 @@ const E: [f64; 7] = [
     -1.0 / 40.0,
 ];
 
+/// Dense-output weights (Hairer's `contd5`; `D[1]` is zero).
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// One accepted step `[t0, t0 + h]` with its dense output: the state at any time inside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseStep {
+    /// Start of the step, s.
+    pub t0: f64,
+    /// Step size, s.
+    pub h: f64,
+    rc: Vec<f64>,
+}
+
+impl DenseStep {
+    /// End of the step, s.
+    pub fn end(&self) -> f64 {
+        self.t0 + self.h
+    }
+
+    /// The state at `t` in `[t0, t0 + h]` (the step's end exactly at `t0 + h`).
+    pub fn at(&self, t: f64, y: &mut [f64]) {
+        let n = y.len();
+        debug_assert_eq!(self.rc.len(), 5 * n);
+        if t >= self.end() {
+            for (i, yi) in y.iter_mut().enumerate() {
+                *yi = self.rc[i] + self.rc[n + i];
+            }
+            return;
+        }
+        let th = (t - self.t0) / self.h;
+        let th1 = 1.0 - th;
+        let rc = &self.rc;
+        for (i, yi) in y.iter_mut().enumerate() {
+            *yi = rc[i]
+                + th * (rc[n + i]
+                    + th1 * (rc[2 * n + i] + th * (rc[3 * n + i] + th1 * rc[4 * n + i])));
+        }
+    }
+}
+
 /// Reusable stage storage for a state of fixed length.
 #[derive(Debug, Clone)]
 pub struct Dopri5 {
@@ -119,6 +167,32 @@ impl Dopri5 {
         evals
     }
 
+    /// Dense output of the step just taken from `y0` to `y1` (size `h`; call before
+    /// [`Dopri5::accept_fsal`]): the fourth-order continuous extension of Dormand &
+    /// Prince (Hairer, Norsett & Wanner, Solving ODEs I, II.6), whose error is of the
+    /// order of the step's own.
+    pub fn dense(&self, t0: f64, y0: &[f64], y1: &[f64], h: f64) -> DenseStep {
+        let n = y0.len();
+        let mut rc = vec![0.0; 5 * n];
+        let k = &self.k;
+        for i in 0..n {
+            let r2 = y1[i] - y0[i];
+            let r3 = h * k[0][i] - r2;
+            rc[i] = y0[i];
+            rc[n + i] = r2;
+            rc[2 * n + i] = r3;
+            rc[3 * n + i] = r2 - h * k[6][i] - r3;
+            rc[4 * n + i] = h
+                * (D[0] * k[0][i]
+                    + D[2] * k[2][i]
+                    + D[3] * k[3][i]
+                    + D[4] * k[4][i]
+                    + D[5] * k[5][i]
+                    + D[6] * k[6][i]);
+        }
+        DenseStep { t0, h, rc }
+    }
+
     /// After accepting a step: the last stage becomes the next step's first stage.
     pub fn accept_fsal(&mut self) {
         self.k.swap(0, 6);
@@ -144,6 +218,28 @@ mod tests {
         w.step(&mut f, 0.0, &[1.0], 0.1, &mut y1, &mut e);
         assert!((y1[0] - (-0.1f64).exp()).abs() < 1e-8);
         assert!(e[0].abs() < 1e-6);
+    }
+
+    #[test]
+    fn dense_output_is_fourth_order_inside_the_step() {
+        // y' = -y: the interpolant's error at mid-step falls as h^5 (local, 4th order).
+        let mut f = |_t: f64, y: &[f64], d: &mut [f64]| d[0] = -y[0];
+        let mut err = |h: f64| {
+            let mut w = Dopri5::new(1);
+            let (mut y1, mut e) = ([0.0], [0.0]);
+            w.step(&mut f, 0.0, &[1.0], h, &mut y1, &mut e);
+            let d = w.dense(0.0, &[1.0], &y1, h);
+            let mut y = [0.0];
+            d.at(0.5 * h, &mut y);
+            let mut end = [0.0];
+            d.at(h, &mut end);
+            assert_eq!(end, y1, "the dense output ends on the step's own end");
+            (y[0] - (-0.5 * h).exp()).abs()
+        };
+        let (e1, e2) = (err(0.2), err(0.1));
+        assert!(e1 < 1e-6, "{e1}");
+        let order = (e1 / e2).log2();
+        assert!(order > 4.5, "observed order {order}");
     }
 
     #[test]

@@ -985,7 +985,70 @@ pub fn advance_observed(
         advance_verlet(phys, members, pairs, t0, t1, step, scratch, out, observer);
         return;
     }
-    advance_adaptive(phys, members, pairs, t0, t1, None, scratch, out, observer);
+    advance_adaptive(
+        phys, members, pairs, t0, t1, None, false, scratch, out, observer,
+    );
+}
+
+/// Advances a lone shot (an island of one, no candidate pair) from `t0` to `t1`, letting
+/// its last step run past `t1` when nothing happens in that step: no contact in progress
+/// or starting, no jet-region crossing, the shot stays in the domain. Its state at `t1`
+/// is then the step's dense output (fourth order, the step's own accuracy), and the
+/// step is kept in [`ShotState::ahead`]: the next windows read the state from it until
+/// they pass its end, where integration resumes from the step's exact end. A free shot
+/// thus takes the steps its accuracy needs, not one per synchronisation window. A shot
+/// that joins a larger island goes on from its dense-output state (the step is dropped).
+///
+/// `observer(t, y)` sees the state after every step taken and at `t1`, as in
+/// [`advance_observed`].
+pub fn advance_alone(
+    phys: &Physics,
+    m: &mut ShotState,
+    t0: f64,
+    t1: f64,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    observer: &mut dyn FnMut(f64, &[f64]),
+) {
+    if !matches!(phys.method, Method::Adaptive) {
+        advance_observed(
+            phys,
+            std::slice::from_mut(m),
+            &mut [],
+            t0,
+            t1,
+            scratch,
+            out,
+            observer,
+        );
+        return;
+    }
+    let mut t0 = t0;
+    if let Some(step) = m.ahead.take() {
+        let spin = phys.contacts.friction.is_some();
+        scratch.y.resize(if spin { 9 } else { 6 }, 0.0);
+        let at = t1.min(step.end());
+        step.at(at, &mut scratch.y);
+        store_state(std::slice::from_mut(m), &scratch.y);
+        observer(at, &scratch.y);
+        if t1 < step.end() {
+            m.ahead = Some(step);
+            return;
+        }
+        t0 = at;
+    }
+    advance_adaptive(
+        phys,
+        std::slice::from_mut(m),
+        &mut [],
+        t0,
+        t1,
+        None,
+        true,
+        scratch,
+        out,
+        observer,
+    );
 }
 
 /// Whether any member is in contact (with the specimen, the wall or another member).
@@ -1019,6 +1082,7 @@ pub fn advance_until_apart(
         t0,
         t1,
         Some(apart_after),
+        false,
         scratch,
         out,
         observer,
@@ -1033,6 +1097,7 @@ fn advance_adaptive(
     t0: f64,
     t1: f64,
     apart_after: Option<f64>,
+    alone: bool,
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
@@ -1042,6 +1107,14 @@ fn advance_adaptive(
         onsets_located: true,
     };
     let n = members.len();
+    // The members' states hold at `t0`: a step kept from an earlier window is stale.
+    for m in members.iter_mut() {
+        m.ahead = None;
+    }
+    // May the last step run past `t1` (see `advance_alone`)? Not again at a time where
+    // a step that tried found an event in it.
+    let alone = alone && n == 1 && pairs.is_empty();
+    let mut no_pass_at = f64::NAN;
     let spin = phys.contacts.friction.is_some();
     let width = if spin { 9 } else { 6 };
     scratch.dopri.resize(width * n);
@@ -1080,7 +1153,12 @@ fn advance_adaptive(
         let h_wanted = h_next.min(phys.max_step);
         let mut h = h_wanted;
         let mut lands_at = None;
-        if t + h >= t1 {
+        let may_pass = alone
+            && no_pass_at != t
+            && moving(&members[0], t)
+            && !members[0].on_specimen
+            && !members[0].on_wall;
+        if t + h >= t1 && !may_pass {
             h = t1 - t;
             lands_at = Some(t1);
         }
@@ -1143,8 +1221,38 @@ fn advance_adaptive(
             );
             break;
         }
-        // Events inside the step: cut the step back to the first one.
         let g1 = ctx.event_margin(members, t + h, y_new);
+        if may_pass && t + h > t1 {
+            // The step runs past the window end: keep it only if nothing happens in it.
+            let p = pos(y_new, 0);
+            let r = members[0].body.radius;
+            let clear = g1 >= 0.0
+                && phys.domain.contains(&p)
+                && phys
+                    .contacts
+                    .wall
+                    .is_none_or(|w| w.geometry(&p, r).is_none_or(|g| g.gap > 0.0));
+            if !clear {
+                no_pass_at = t;
+                continue;
+            }
+            let m = &mut members[0];
+            m.steps += 1;
+            work.shot_steps += 1;
+            work.steps_accepted += 1;
+            let step = dopri.dense(t, y, y_new, h);
+            step.at(t1, y);
+            m.ahead = Some(std::sync::Arc::new(step));
+            h_next = h * if err_norm > 0.0 {
+                (0.9 * err_norm.powf(-0.2)).clamp(0.2, 5.0)
+            } else {
+                5.0
+            };
+            t = t1;
+            observer(t, y);
+            break;
+        }
+        // Events inside the step: cut the step back to the first one.
         if g1 < 0.0 {
             lands_at = None;
             let (mut a, mut ga) = (0.0, g0.max(0.0));
