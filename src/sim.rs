@@ -1101,6 +1101,19 @@ impl Simulation {
                 }
                 pos
             };
+            // Only a shot that moved farther than the reach its pairs were found with can
+            // meet a shot it was not paired with: a shot within its reach that flew with
+            // body forces alone (not kicked) kept to its relative-motion bound, and every
+            // pair within absolute reach involving a kicked shot is a candidate. Without
+            // such a shot the overlap search is skipped (it would find nothing).
+            let escaped = idx.iter().zip(&ends).any(|(&i, e)| {
+                let s = &self.shots[i];
+                (e - s.pos).norm() > self.reach_buf[i] - s.body.radius
+            });
+            if !escaped {
+                self.commit_islands(&islands, results);
+                break;
+            }
             let radii: Vec<f64> = idx.iter().map(|&i| self.shots[i].body.radius).collect();
             self.work.neighbour_searches += 1;
             let missed: Vec<(u32, u32)> = self

@@ -630,3 +630,50 @@ nozzle_wall_contact = true
         }
     }
 }
+
+/// The windows' safety net: B, at rest, is not paired with A (0.1 mm away: a shot at rest
+/// reaches nowhere), but C hits B early in the first window and sends it into A. The
+/// window must notice that B moved beyond the reach its pairs were found with, find the
+/// unpaired overlap with A, and redo the window with that pair: A is then hit, not
+/// passed through.
+#[test]
+fn a_shot_kicked_beyond_its_reach_is_caught_and_the_window_redone() {
+    let b = body(0.8e-3, 7850.0);
+    let pair = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.9);
+    let phys = physics(None, Some(pair), 0.0);
+    let at = |id: u32, z: f64, vz: f64| {
+        ShotState::new(
+            ShotId(id),
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(0.0, 0.0, vz),
+            b,
+            0.0,
+        )
+    };
+    let shots = vec![at(0, 1.1e-3, 0.0), at(1, 2.0e-3, 0.0), at(2, 3.0e-3, -70.0)];
+    let out = Simulation::from_parts(phys, shots, 50e-6)
+        .with_scheduler(peenflow::sim::Scheduler::Windows)
+        .run(&|_| {});
+    assert!(out.events.is_empty(), "{:?}", out.events);
+    assert!(out.window_redos >= 1, "the beaten reach went unnoticed");
+    let (a, bb, c) = (&out.shots[0], &out.shots[1], &out.shots[2]);
+    assert!(
+        a.collisions >= 1 && bb.collisions >= 2,
+        "A must be hit by B"
+    );
+    // Momentum is passed down the line: A leaves fastest, downwards.
+    assert!(a.vel.z < -40.0, "A at {} m/s", a.vel.z);
+    let p: f64 = out.shots.iter().map(|s| s.body.mass * s.vel.z).sum();
+    assert!(
+        (p - b.mass * -70.0).abs() < 1e-9 * b.mass * 70.0,
+        "momentum {p}"
+    );
+    for (x, y) in [(a, bb), (bb, c), (a, c)] {
+        assert!(
+            (x.pos - y.pos).norm() > 2.0 * b.radius,
+            "shots {} and {} overlap at the end",
+            x.id.0,
+            y.id.0
+        );
+    }
+}
