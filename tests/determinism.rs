@@ -66,3 +66,32 @@ fn friction_and_sieve_sizes_are_deterministic_across_thread_counts() {
         }
     }
 }
+
+/// Windows hand their islands to the thread pool only when enough shots take steps; with
+/// that threshold at zero every window runs in parallel, and the records must still be
+/// identical to a one-thread run.
+#[test]
+fn windows_integrated_in_parallel_give_the_one_thread_records() {
+    let scene = peenflow::scene::Scene::default_scene();
+    let run = |threads: usize, min_shots: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            peenflow::sim::Simulation::new(&scene, &scene.effects())
+                .unwrap()
+                .with_parallel_min_shots(min_shots)
+                .run(&|_| {})
+        })
+    };
+    let one = run(1, 0);
+    let two = run(2, 0);
+    let default = run(2, peenflow::sim::PARALLEL_MIN_SHOTS);
+    assert_eq!(one.scheduler, "windows");
+    assert!(one.impacts.len() > 10);
+    assert_eq!(one.impacts, two.impacts);
+    assert_eq!(one.shots, two.shots);
+    assert_eq!(one.impacts, default.impacts);
+    assert_eq!(one.shots, default.shots);
+}
