@@ -138,8 +138,9 @@ def liggghts(tmp):
         results[name] = sum(loops[-timed:])
     # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
     # (tolerance 1e-6, 50 steps per contact), and at LIGGGHTS' accuracy (tolerance 1e-4,
-    # 15 steps per contact), checked below on a shot-shot collision.
-    matched = "[integrator]\ntolerance = 1e-4\ncontact_steps = 15\n"
+    # 25 steps per contact), checked below on head-on and oblique shot-shot collisions and
+    # on a shot-specimen impact (15 steps per contact passed the shot-shot checks only).
+    matched = "[integrator]\ntolerance = 1e-4\ncontact_steps = 25\n"
     ps = peenflow(os.path.join(SCENES, "pack_stream_10k.toml"), 1, tmp, "ps")
     text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
     fast_scene = os.path.join(tmp, "pack_matched.toml")
@@ -194,13 +195,60 @@ nozzle_wall_contact = false
 
     e_matched = restitution_error(matched, "matched")
     e_verlet = restitution_error('[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\n', "verlet")
-    print(f"restitution error, head-on at 119 m/s: peenflow tolerance 1e-4 / 15 steps per contact: {e_matched:.2e}; velocity Verlet 20 ns: {e_verlet:.2e}")
+    print(f"restitution error, head-on at 119 m/s: peenflow tolerance 1e-4 / 25 steps per contact: {e_matched:.2e}; velocity Verlet 20 ns: {e_verlet:.2e}")
     assert e_matched <= e_verlet, "the matched setting is less accurate than a 20 ns Verlet step"
+
+    # The same check on an oblique shot-shot collision (centres offset by half a diameter
+    # across the motion) and on a shot-specimen impact at 70 m/s and 30 degrees from the
+    # normal: the outgoing velocities against a converged run (tolerance 1e-10), largest
+    # component error over the closing speed.
+    verlet = '[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\n'
+    converged = "[integrator]\ntolerance = 1e-10\n"
+    wall = """duration_ms = 0.01
+[shots]
+diameter_mm = 0.8
+material = "table2-steel"
+[shots.feed]
+type = "list"
+[[shots.feed.shots]]
+position_mm = [0.0, 0.0, 0.5]
+velocity_m_s = [35.0, 0.0, -60.62]
+[restitution]
+shot_specimen = 0.7
+[effects]
+drag = false
+lateral_force = false
+gravity = false
+specimen_contact = true
+shot_shot_contact = false
+nozzle_wall_contact = false
+"""
+    cases = [
+        ("oblique shot-shot at 119 m/s", pair.replace("position_mm = [0.0, 0.0, 6.0]", "position_mm = [0.4, 0.0, 6.0]"), 119.0),
+        ("shot-specimen at 70 m/s, 30 degrees", wall, 70.0),
+    ]
+
+    def velocities(scene, integrator, tag):
+        path = os.path.join(tmp, f"{tag}.toml")
+        open(path, "w").write(scene.replace("[effects]", integrator + "[effects]"))
+        out = os.path.join(tmp, tag)
+        run([BIN, "run", path, "--out", out, "--force", "-q", "-j", "1"], tmp)
+        import csv
+        rows = sorted(csv.DictReader(open(os.path.join(out, "shots.csv"))), key=lambda r: int(r["shot"]))
+        return [float(r[k]) for r in rows for k in ("vx_m_s", "vy_m_s", "vz_m_s")]
+
+    for name, scene, speed in cases:
+        ref = velocities(scene, converged, "ref")
+        err = lambda v: max(abs(a - b) for a, b in zip(v, ref)) / speed
+        e_m = err(velocities(scene, matched, "m"))
+        e_v = err(velocities(scene, verlet, "v"))
+        print(f"outgoing-velocity error, {name}: peenflow tolerance 1e-4 / 25 steps per contact: {e_m:.2e}; velocity Verlet 20 ns: {e_v:.2e}")
+        assert e_m <= e_v, f"the matched setting is less accurate than a 20 ns Verlet step ({name})"
     print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread) | LIGGGHTS / peenflow |")
     print("|---|---|---|---|")
     lg = results["stream"]
     print(f"| stream, 10,000 shots at 70 m/s, 170 us: event scheduler, tolerance 1e-6, 50 steps per contact (default) | {lg:.2f} | {ps['wall']:.2f} | {lg / ps['wall']:.2f} |")
-    print(f"| same, event scheduler at LIGGGHTS' accuracy (tolerance 1e-4, 15 steps per contact) | {lg:.2f} | {ps_fast['wall']:.2f} | {lg / ps_fast['wall']:.2f} |")
+    print(f"| same, event scheduler at LIGGGHTS' accuracy (tolerance 1e-4, 25 steps per contact) | {lg:.2f} | {ps_fast['wall']:.2f} | {lg / ps_fast['wall']:.2f} |")
     print(f"| same, window scheduler, default accuracy | {lg:.2f} | {ps_win['wall']:.2f} | {lg / ps_win['wall']:.2f} |")
     # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
     print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
