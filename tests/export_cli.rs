@@ -66,6 +66,22 @@ fn export_bad_input_gets_one_line_and_no_output() {
         ],
         "the selection is empty: 1 impacts in the file, none with time 0..1 ms",
     );
+    fails_cleanly(
+        t,
+        &[
+            "export",
+            "run/impacts.h5",
+            "-f",
+            "calculix",
+            "--target-material",
+            "A5052",
+            "--element-size-mm",
+            "0.002",
+            "-o",
+            "bad",
+        ],
+        "allowed at most 2000000: select fewer or closer impacts (--window, --time-window, --first, --sample) or pass a larger --element-size-mm",
+    );
     fs::write(
         t.join("my.j2"),
         "*HEADING\n{{ title }}\n{{ no_such_variable }}\n",

@@ -144,6 +144,24 @@ pub enum DeckError {
         "target material \"{0}\" has no yield strength: pass --target-material A5052 (or another library material with one) or add yield_strength_mpa to [materials.{0}]"
     )]
     NoYield(String),
+    /// The target block under the selected impacts would be too large to be useful.
+    #[error(
+        "{impacts} impacts spread over {width_mm:.1} x {length_mm:.1} mm need a target block of {elements} elements at {element_size_mm} mm; allowed at most {limit}: select fewer or closer impacts (--window, --time-window, --first, --sample) or pass a larger --element-size-mm"
+    )]
+    TooLarge {
+        /// Impacts selected.
+        impacts: usize,
+        /// Extent of the impacts along x, mm.
+        width_mm: f64,
+        /// Extent along y, mm.
+        length_mm: f64,
+        /// Elements the block would have.
+        elements: u64,
+        /// Element size under the impacts, mm.
+        element_size_mm: f64,
+        /// [`MAX_TARGET_ELEMENTS`].
+        limit: u64,
+    },
     /// The template failed.
     #[error("{template}: {message}")]
     Template {
@@ -355,6 +373,12 @@ fn deck_name(s: &str) -> String {
         .collect()
 }
 
+/// Largest target block a deck is built with: an explicit impact analysis of a few
+/// shots runs on tens to hundreds of thousands of elements; millions mean the selection
+/// spans far more of the specimen than one FE model should (building and writing such a
+/// deck alone would take minutes).
+pub const MAX_TARGET_ELEMENTS: u64 = 2_000_000;
+
 /// Builds the model of `impacts` (already selected, time-ordered, non-empty).
 pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError> {
     let u = s.units.units();
@@ -398,6 +422,20 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
     let ys = block::graded_axis(y0 - oy - margin, y1 - oy + margin, &yz, h, 1.5, r_max);
     let depth = 2.5 * r_max;
     let zs = block::graded_axis(-depth, 0.0, &[(-r_max, 0.0)], h, 1.5, r_max);
+    let elements = [&xs, &ys, &zs]
+        .iter()
+        .map(|a| a.len().saturating_sub(1) as u64)
+        .product::<u64>();
+    if elements > MAX_TARGET_ELEMENTS {
+        return Err(DeckError::TooLarge {
+            impacts: impacts.len(),
+            width_mm: (x1 - x0) * 1e3,
+            length_mm: (y1 - y0) * 1e3,
+            elements,
+            element_size_mm: h * 1e3,
+            limit: MAX_TARGET_ELEMENTS,
+        });
+    }
     let mut mesh = block::graded_block(&xs, &ys, &zs);
     let n_target_nodes = mesh.nodes.len() as u32;
     let n_target_elements = mesh.elements.len() as u32;
