@@ -462,12 +462,14 @@ impl Ctx<'_> {
             .extend(members.iter().enumerate().map(|(i, m)| {
                 moving(m, t)
                     && m.on_specimen
+                    && t - m.specimen_onset <= 3.0 * m.specimen_contact_time
                     && self.phys.contacts.specimen.is_some()
                     && self.specimen_unloading(m, i, y) > 0.0
             }));
         out.pairs.clear();
         out.pairs.extend(pairs.iter().map(|pr| {
             pr.touching
+                && t - pr.onset <= 3.0 * pr.contact_time
                 && moving(&members[pr.a as usize], t)
                 && moving(&members[pr.b as usize], t)
                 && self.pair_unloading(members, pr, y) > 0.0
