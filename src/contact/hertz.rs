@@ -52,6 +52,24 @@ impl HertzLaw {
     }
 }
 
+impl HertzLaw {
+    /// How far a contact at `overlap` (m) changing at `overlap_rate` (m/s) is from the
+    /// instant its force would turn negative (where the clamp at zero puts a kink into
+    /// the motion): `delta^(3/2) + alpha sqrt(m*/K) delta^(1/4) d(delta)/dt`, the
+    /// unclamped force over `K`, as a length (`sign(g) |g|^(2/3)`, about the overlap while
+    /// loading). Positive while the contact pushes; the integrator ends a step where it
+    /// crosses zero, so no step straddles the kink.
+    #[inline]
+    pub fn unloading_margin(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
+        if overlap <= 0.0 {
+            return 0.0;
+        }
+        let sq = overlap.sqrt();
+        let g = overlap * sq + self.damping * (m_eff / k).sqrt() * sq.sqrt() * overlap_rate;
+        g.signum() * (g * g).cbrt()
+    }
+}
+
 /// `E* = 1 / ((1-nu_1^2)/E_1 + (1-nu_2^2)/E_2)`, Pa.
 pub fn effective_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
     1.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
