@@ -424,7 +424,7 @@ impl Default for IntegratorFile {
     fn default() -> Self {
         IntegratorFile {
             tolerance: 1e-6,
-            contact_steps: 50.0,
+            contact_steps: 10.0,
             max_step_ms: 0.5,
             method: "adaptive".into(),
             fixed_step_ns: None,
