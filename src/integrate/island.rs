@@ -367,8 +367,10 @@ impl Ctx<'_> {
     }
 
     /// Smallest margin (m) over the events that cut a step: a moving member leaving its
-    /// frozen jet region (the field jumps at region borders), and a shot touching the
-    /// specimen (located exactly: the impact record is the product). Positive: none.
+    /// frozen jet region (the field jumps at region borders), a shot touching the
+    /// specimen (located exactly: the impact record is the product), and an impact's
+    /// force reaching zero before the bodies part (the clamp's kink; for the contacts
+    /// `pushing` at the step start, weighted by `KINK_SCALE`). Positive: none.
     /// Shot-shot and wall onsets do not cut steps (see [`Ctx::record_onsets`]).
     fn event_margin(
         &self,
