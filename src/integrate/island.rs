@@ -91,6 +91,7 @@ pub struct Scratch {
     y: Vec<f64>,
     y_new: Vec<f64>,
     err: Vec<f64>,
+    pushing: Pushing,
 }
 
 impl Default for Scratch {
@@ -100,6 +101,7 @@ impl Default for Scratch {
             y: Vec::new(),
             y_new: Vec::new(),
             err: Vec::new(),
+            pushing: Pushing::default(),
         }
     }
 }
@@ -1049,7 +1051,7 @@ fn trial(
 }
 
 /// Contacts still pushing at the start of a step (see `Ctx::pushing`).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 struct Pushing {
     specimen: Vec<bool>,
     pairs: Vec<bool>,
@@ -1224,7 +1226,6 @@ fn advance_adaptive(
     // a step that tried found an event in it.
     let alone = alone && n == 1 && pairs.is_empty();
     let mut no_pass_at = f64::NAN;
-    let mut pushing = Pushing::default();
     let spin = phys.contacts.friction.is_some();
     let width = if spin { 9 } else { 6 };
     scratch.dopri.resize(width * n);
@@ -1248,6 +1249,7 @@ fn advance_adaptive(
         y,
         y_new,
         err,
+        pushing,
     } = scratch;
     dopri.invalidate();
     let mut work = WorkCounters::default();
@@ -1294,8 +1296,8 @@ fn advance_adaptive(
             h = cap;
             lands_at = None;
         }
-        ctx.pushing(members, pairs, t, y, &mut pushing);
-        let g0 = ctx.event_margin(members, pairs, &pushing, t, y);
+        ctx.pushing(members, pairs, t, y, pushing);
+        let g0 = ctx.event_margin(members, pairs, pushing, t, y);
         // Trial steps until the error is acceptable.
         let mut rejected = false;
         let err_norm = loop {
@@ -1332,7 +1334,7 @@ fn advance_adaptive(
             );
             break;
         }
-        let g1 = ctx.event_margin(members, pairs, &pushing, t + h, y_new);
+        let g1 = ctx.event_margin(members, pairs, pushing, t + h, y_new);
         if may_pass && t + h > t1 {
             // The step runs past the window end: keep it only if nothing happens in it.
             let p = pos(y_new, 0);
@@ -1380,7 +1382,7 @@ fn advance_adaptive(
                 }
                 trial(&ctx, dopri, members, pairs, t, y, c, y_new, err, &mut work);
                 work.steps_rejected += 1;
-                let gc = ctx.event_margin(members, pairs, &pushing, t + c, y_new);
+                let gc = ctx.event_margin(members, pairs, pushing, t + c, y_new);
                 if gc < 0.0 {
                     b = c;
                     gb = gc;
