@@ -8,7 +8,8 @@
 //! * Table 1 tests 1-5 over 5 seeds: lower pressure, smaller shots, more shots each give a
 //!   broader spread of impact locations.
 //! * Where the spread comes from: the Table 2 scene with shot-shot contact, the lateral
-//!   force, the nozzle wall switched off.
+//!   force, the nozzle wall, rebounds switched off, and on the experiments' A5052 specimen,
+//!   each with the seed-bootstrap interval of its change.
 //! * Beyond the paper: impact speed against pressure for several shot sizes, with the
 //!   fitted power law, against the published trend (speed rising about as p^0.5).
 
@@ -19,6 +20,9 @@ use crate::sim::{RunOutput, Simulation};
 use crate::summary::percentile;
 use std::fmt::Write;
 use std::path::Path;
+
+/// A change applied to a scene (one row of the effect-off table).
+type SceneChange = Box<dyn Fn(&mut Scene)>;
 
 /// First-hit statistics pooled over seeds.
 #[derive(Debug, Clone, Default)]
@@ -33,6 +37,9 @@ pub struct Pooled {
     pub radii_by_seed: Vec<Vec<f64>>,
     /// Shot-shot collisions over all seeds.
     pub collisions: u64,
+    /// Radii of every impact (first hits and the re-hits of rebounding shots), mm, per
+    /// seed: the experiments counted every indentation.
+    pub all_radii_by_seed: Vec<Vec<f64>>,
 }
 
 impl Pooled {
@@ -80,6 +87,15 @@ impl Pooled {
     pub fn mean_speed(&self) -> f64 {
         self.speeds.iter().sum::<f64>() / self.speeds.len().max(1) as f64
     }
+    /// The same runs with every impact counted (radii only): what an indentation count
+    /// on the specimen sees.
+    pub fn every_impact(&self) -> Pooled {
+        Pooled {
+            radii_mm: self.all_radii_by_seed.concat(),
+            radii_by_seed: self.all_radii_by_seed.clone(),
+            ..Pooled::default()
+        }
+    }
 }
 
 /// Runs `scene` for `seeds` seeds from 1 and pools first hits.
@@ -100,6 +116,8 @@ pub fn pooled(scene: &Scene, seeds: u64) -> Pooled {
             mine.push(m.radius_m() * 1e3);
         }
         p.radii_by_seed.push(mine);
+        p.all_radii_by_seed
+            .push(out.impacts.iter().map(|m| m.radius_m() * 1e3).collect());
     }
     p
 }
@@ -373,7 +391,7 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
     );
     let _ = writeln!(
         md,
-        "| trend (paper) | peenflow (90th-percentile radius) | 95 % interval of the difference | verdict |\n|---|---|---|---|"
+        "| trend (paper) | peenflow (90th-percentile radius) | 95 % interval of the difference | verdict | every indentation (re-hits of rebounds too): interval, verdict |\n|---|---|---|---|---|"
     );
     for (name, a, b) in [
         ("lower pressure spreads wider (test 3 vs 1)", 2usize, 0usize),
@@ -382,14 +400,18 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
         ("more shots spread wider (test 2 vs 1)", 1, 0),
     ] {
         let c = ci(a, b);
+        let e = percentile_difference_ci(&tests[a].every_impact(), &tests[b].every_impact(), 90.0);
         let _ = writeln!(
             md,
-            "| {name} | {:.2} vs {:.2} mm | {:+.2} to {:+.2} mm | {} |",
+            "| {name} | {:.2} vs {:.2} mm | {:+.2} to {:+.2} mm | {} | {:+.2} to {:+.2} mm, {} |",
             p90(a),
             p90(b),
             c.0,
             c.1,
-            trend_verdict(c)
+            trend_verdict(c),
+            e.0,
+            e.1,
+            trend_verdict(e)
         );
     }
     let _ = writeln!(
@@ -403,7 +425,18 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
          seed noise. The paper's measured trends point to a dispersion mechanism the \
          mean-flow model lacks; the candidate is turbulent dispersion in the jet (velocity \
          fluctuations of the mixing layer, followed more closely by small, slow shots: their \
-         Stokes number scales as D^2 and with the speed). The next section switches it on.\n"
+         Stokes number scales as D^2 and with the speed). The next section switches it on.\n\n\
+         What the paper's trends are, and the decision taken. Table 1's trends are \
+         measurements (the paper's Figs. 3-5, indentations counted on the specimen); the \
+         paper's own simulation reports only the Table 2 scene (Figs. 12-13) and leaves the \
+         direct comparison with the experiments to future work. The text gives the measured \
+         histograms only as the trends, so there are no numbers to calibrate a further \
+         mechanism against. peenflow therefore implements the published model as it stands, \
+         reports where it departs from the measurements (here) and guards what the model \
+         does in each of the three comparisons (tests/validation.rs: more shots wider, \
+         smaller shots narrower, pressure within seed noise), so that a physics change in \
+         any of them fails CI. Counting every indentation, re-hits of rebounding shots \
+         included (last column), gives the same verdicts.\n"
     );
     plot::bars(
         &fig.join("table1_radius"),
@@ -481,35 +514,86 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
     );
     let _ = writeln!(
         md,
-        "| run | median radius, mm | 90th-percentile radius, mm | shots never reaching, % | mean normal speed, m/s |"
+        "| run | median radius, mm | 90th-percentile radius, mm | change of the 90th percentile from all effects, 95 % interval, mm | shots never reaching, % | mean normal speed, m/s |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
     let _ = writeln!(
         md,
-        "| all effects | {:.2} | {:.2} | {:.0} | {:.1} |",
+        "| all effects | {:.2} | {:.2} | | {:.0} | {:.1} |",
         paper.radius_p(50.0),
         paper.radius_p(90.0),
         100.0 * paper.never(),
         paper.mean_speed()
     );
-    for (name, idx) in [
-        ("no shot-shot contact", 4usize),
-        ("no lateral force", 1),
-        ("no nozzle wall", 5),
-    ] {
+    let off = |idx: usize| {
+        move |s: &mut Scene| {
+            s.effects.switches[idx] = Switch::Off;
+        }
+    };
+    let variants: [(&str, SceneChange); 5] = [
+        ("no shot-shot contact", Box::new(off(4))),
+        ("no lateral force", Box::new(off(1))),
+        ("no nozzle wall", Box::new(off(5))),
+        (
+            "no rebounds (shot-specimen restitution 0.05)",
+            Box::new(|s: &mut Scene| s.restitution.shot_specimen = 0.05),
+        ),
+        (
+            "A5052 specimen (the experiments' material)",
+            Box::new(|s: &mut Scene| {
+                s.specimen_material =
+                    crate::scene::material::builtin("A5052").expect("BUG: built-in material")
+            }),
+        ),
+    ];
+    let mut p90s = Vec::new();
+    let mut verdicts = Vec::new();
+    for (name, change) in variants {
         let mut s = base.clone();
-        s.effects.switches[idx] = Switch::Off;
+        change(&mut s);
         let p = pooled(&s, seeds);
+        let c = percentile_difference_ci(&p, &paper, 90.0);
+        p90s.push(p.radius_p(90.0));
+        verdicts.push(if c.0 > 0.0 || c.1 < 0.0 {
+            "a significant change"
+        } else {
+            "within seed noise"
+        });
         let _ = writeln!(
             md,
-            "| {name} | {:.2} | {:.2} | {:.0} | {:.1} |",
+            "| {name} | {:.2} | {:.2} | {:+.2} to {:+.2} | {:.0} | {:.1} |",
             p.radius_p(50.0),
             p.radius_p(90.0),
+            c.0,
+            c.1,
             100.0 * p.never(),
             p.mean_speed()
         );
     }
-    let _ = writeln!(md);
+    let all = paper.radius_p(90.0);
+    let share = |p90: f64| 100.0 * (all - p90) / all;
+    let _ = writeln!(
+        md,
+        "\nReading it (all effects: 90th-percentile radius {all:.2} mm). Without shot-shot \
+         contact it is {:.2} mm ({}; {:.0} % of the radius comes from collisions in \
+         flight, the rest is the start offset of 1.5-2.6 mm carried to the specimen). \
+         Without rebounds it is {:.2} mm ({}; {:.0} %: shots bouncing off the specimen \
+         and meeting those still coming). Switching off the lateral force ({:+.0} %) is \
+         {}, the nozzle wall ({:+.0} %) {}; the experiments' softer A5052 specimen, at \
+         the same restitution, is {} ({:.2} mm).\n",
+        p90s[0],
+        verdicts[0],
+        share(p90s[0]),
+        p90s[3],
+        verdicts[3],
+        share(p90s[3]),
+        -share(p90s[1]),
+        verdicts[1],
+        -share(p90s[2]),
+        verdicts[2],
+        verdicts[4],
+        p90s[4]
+    );
 
     progress("pressure sweep");
     let pressures = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8];

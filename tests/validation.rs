@@ -4,8 +4,10 @@
 //! shot-shot collisions are what spreads the impacts (90th-percentile radius with them at
 //! least 1.5x that without); more shots spread wider (30 against 1). The lone shot lands at
 //! 60.1 m/s with the rho* core and 71.2 m/s with rho_0 (model-notes: ~60 and ~71).
-//! The paper's pressure and shot-size trends are not reproduced by this model (see
-//! docs/model.md) and are therefore not asserted.
+//! The paper's pressure and shot-size trends (measurements, its Figs. 3-5) are not
+//! reproduced by this model (docs/validation.md): what the model does instead is guarded
+//! (smaller shots spread narrower; pressure moves the spread by less than the seed noise),
+//! so a physics change that moves either fails here.
 
 mod common;
 use common::*;
@@ -83,6 +85,7 @@ fn seed_bootstrap_verdicts() {
     use peenflow::validate::{Pooled, percentile_difference_ci, trend_verdict};
     let make = |base: f64| Pooled {
         collisions: 0,
+        all_radii_by_seed: vec![],
         shots: 100,
         speeds: vec![],
         radii_mm: vec![],
@@ -120,4 +123,24 @@ fn smaller_shots_spread_narrower_in_this_model() {
     let ci = percentile_difference_ci(&t4, &t1, 90.0);
     println!("p90 0.5 mm minus 0.8 mm: {ci:?}");
     assert_eq!(trend_verdict(ci), "opposite");
+}
+
+/// Lower pressure slows every shot alike and leaves the collision pattern as it is: in
+/// this model the 0.3 MPa and 0.6 MPa spreads differ by less than the seed noise (measured
+/// over 20 seeds: interval of the difference of 90th-percentile radii -0.9 to +1.0 mm; the
+/// paper measured a wider spread at 0.3 MPa). A change that makes pressure move the spread
+/// either way (e.g. a dispersion mechanism that depends on shot speed) resolves the interval
+/// and fails here, to be re-judged against the paper's trend.
+#[test]
+fn pressure_moves_the_spread_less_than_the_seed_noise_in_this_model() {
+    use peenflow::validate::{percentile_difference_ci, table1, trend_verdict};
+    let t1 = pooled(&table1(1), 20);
+    let t3 = pooled(&table1(3), 20);
+    let ci = percentile_difference_ci(&t3, &t1, 90.0);
+    println!("p90 0.3 MPa minus 0.6 MPa: {ci:?}");
+    assert!(trend_verdict(ci).starts_with("not resolved"), "{ci:?}");
+    assert!(
+        ci.1 - ci.0 < 3.0,
+        "interval too wide to mean anything: {ci:?}"
+    );
 }
