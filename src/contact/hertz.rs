@@ -56,17 +56,16 @@ impl HertzLaw {
     /// How far a contact at `overlap` (m) changing at `overlap_rate` (m/s) is from the
     /// instant its force would turn negative (where the clamp at zero puts a kink into
     /// the motion): `delta^(3/2) + alpha sqrt(m*/K) delta^(1/4) d(delta)/dt`, the
-    /// unclamped force over `K`, as a length (`sign(g) |g|^(2/3)`, about the overlap while
-    /// loading). Positive while the contact pushes; the integrator ends a step where it
-    /// crosses zero, so no step straddles the kink.
+    /// unclamped force over `K`, as a length (`g / sqrt(delta)`, about the overlap while
+    /// loading, and smooth through its root, so the secant search that locates it
+    /// converges fast). Positive while the contact pushes; the integrator ends a step
+    /// where it crosses zero, so no step straddles the kink.
     #[inline]
     pub fn unloading_margin(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
         if overlap <= 0.0 {
             return 0.0;
         }
-        let sq = overlap.sqrt();
-        let g = overlap * sq + self.damping * (m_eff / k).sqrt() * sq.sqrt() * overlap_rate;
-        g.signum() * (g * g).cbrt()
+        overlap + self.damping * (m_eff / k).sqrt() * overlap_rate / overlap.sqrt().sqrt()
     }
 }
 

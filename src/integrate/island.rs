@@ -1375,14 +1375,20 @@ fn advance_adaptive(
                 if gb > -tol_g || b - a <= 1e-13 * b {
                     break;
                 }
-                let mut c = b - gb * (b - a) / (gb - ga);
+                // Secant (Illinois) point, kept a little inside the bracket: a root
+                // next to one end (a step that starts on a touch, a kink all but
+                // found) is then bracketed in a step or two instead of by bisection.
                 let guard = 1e-3 * (b - a);
-                if !(c > a + guard && c < b - guard) {
-                    c = 0.5 * (a + b);
-                }
+                let c = b - gb * (b - a) / (gb - ga);
+                let c = if c.is_finite() {
+                    c.clamp(a + guard, b - guard)
+                } else {
+                    0.5 * (a + b)
+                };
                 trial(&ctx, dopri, members, pairs, t, y, c, y_new, err, &mut work);
                 work.steps_rejected += 1;
                 let gc = ctx.event_margin(members, pairs, pushing, t + c, y_new);
+
                 if gc < 0.0 {
                     b = c;
                     gb = gc;
