@@ -214,6 +214,12 @@ nozzle_wall_contact = false
         ("oblique shot-shot at 119 m/s", pair.replace("position_mm = [0.0, 0.0, 6.0]", "position_mm = [0.4, 0.0, 6.0]"), 119.0),
         ("shot-specimen at 70 m/s, 30 degrees",
          contact_scene(shot("[0.0, 0.0, 0.5]", "[35.0, 0.0, -60.62]"), "shot_specimen = 0.7", True), 70.0),
+        # The same impact as the pack runs it: shot-shot contact on (a far companion), so
+        # the event scheduler and its lean contact path resolve it.
+        ("shot-specimen at 70 m/s, 30 degrees, event scheduler",
+         contact_scene(shot("[0.0, 0.0, 0.5]", "[35.0, 0.0, -60.62]") + shot("[20.0, 20.0, 5.0]", "[0.0, 0.0, 0.0]"),
+                       "shot_specimen = 0.7\nshot_shot = 0.9", True)
+         .replace("shot_shot_contact = false", "shot_shot_contact = true"), 70.0),
     ]
     for name, scene, speed in cases:
         ref = velocities(scene, converged, "ref")

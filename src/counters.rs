@@ -50,6 +50,10 @@ pub struct WorkCounters {
     /// Event scheduler: contacts found already overlapping when their cluster started
     /// (should stay zero; reported so a user can see it).
     pub late_contacts: u64,
+    /// Event scheduler: lone frictionless contacts (two shots, or a shot and the
+    /// specimen) resolved in closed form and a two-body frame instead of as an island
+    /// (`events/binary.rs`).
+    pub lean_contacts: u64,
 }
 
 impl WorkCounters {
@@ -75,5 +79,6 @@ impl WorkCounters {
         self.clusters += other.clusters;
         self.cluster_redos += other.cluster_redos;
         self.late_contacts += other.late_contacts;
+        self.lean_contacts += other.lean_contacts;
     }
 }

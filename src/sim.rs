@@ -508,6 +508,8 @@ pub struct Simulation {
     scheduler: Scheduler,
     /// Windows integrate their islands in parallel from this many shots taking steps.
     parallel_min_shots: usize,
+    /// The event scheduler resolves lone contacts on its lean path (`events::binary`).
+    lean_contacts: bool,
 }
 
 /// Default of [`Simulation::with_parallel_min_shots`].
@@ -566,6 +568,14 @@ impl Simulation {
         self
     }
 
+    /// Whether the event scheduler resolves lone frictionless contacts on its lean path
+    /// (closed form and a two-body frame, `events::binary`; default) or every contact as
+    /// an island. For comparisons: both resolve the same physics to the tolerance.
+    pub fn with_lean_contacts(mut self, on: bool) -> Self {
+        self.lean_contacts = on;
+        self
+    }
+
     /// The scheduler a run will use.
     pub fn scheduler_in_use(&self) -> &'static str {
         if self.physics.contacts.pair.is_none() {
@@ -604,6 +614,7 @@ impl Simulation {
             kicked_buf: ById::default(),
             scheduler: Scheduler::Auto,
             parallel_min_shots: PARALLEL_MIN_SHOTS,
+            lean_contacts: true,
             physics,
             shots: ShotStore::from_vec(shots),
             feed: None,
@@ -696,7 +707,13 @@ impl Simulation {
             self.shots = ShotStore::from_vec(shots);
         } else if scheduler == "events" {
             let mut shots = self.shots.take_all();
-            let out = crate::events::run(&self.physics, &mut shots, self.end, progress);
+            let out = crate::events::run(
+                &self.physics,
+                &mut shots,
+                self.end,
+                self.lean_contacts,
+                progress,
+            );
             self.shots = ShotStore::from_vec(shots);
             self.commit_output(out);
         } else {

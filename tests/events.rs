@@ -22,31 +22,37 @@ fn run(
         .run(&|_| {})
 }
 
-/// Two shots meeting off-centre in vacuum: the event scheduler resolves the contact with
-/// the same island integrator, so at a tight tolerance (1e-10) its outgoing velocities are
-/// the window scheduler's to 1e-7 of the closing speed (measured 1.7e-8), and at the default tolerance
-/// (1e-6) both schedulers are within 1e-4 of the converged result (they take different
-/// steps into the contact: measured 1.7e-5 and 3.5e-5). Momentum is conserved.
+/// Two 0.8 mm shots meeting off-centre in vacuum at 70 m/s, run with scheduler `s`
+/// (events: on the lean contact path or not) at tolerance `tol`.
+fn off_centre_pair(tol: f64, s: Scheduler, lean: bool) -> RunOutput {
+    let d = 0.8e-3;
+    let shots = vec![
+        shot(0, d, Vec3::new(0.0, 0.0, 0.01), Vec3::new(30.0, 0.0, 0.0)),
+        shot(
+            1,
+            d,
+            Vec3::new(0.004, 0.0003, 0.01),
+            Vec3::new(-40.0, 0.0, 0.0),
+        ),
+    ];
+    let mut phys = contact_physics(None, Some(0.9));
+    phys.tolerance = tol;
+    Simulation::from_parts(phys, shots, 3e-4)
+        .with_scheduler(s)
+        .with_lean_contacts(lean)
+        .run(&|_| {})
+}
+
+/// Two shots meeting off-centre in vacuum: the event scheduler resolves the contact on
+/// its lean path (events/binary.rs, the same force law and error control as the island
+/// integrator), so at a tight tolerance (1e-10) its outgoing velocities are the window
+/// scheduler's to 1e-7 of the closing speed, and at the default tolerance (1e-6) both
+/// schedulers are within 1e-4 of the converged result (they take different steps into
+/// the contact). Momentum is conserved.
 #[test]
 fn a_binary_collision_matches_the_window_scheduler() {
-    let d = 0.8e-3;
     let closing = 70.0;
-    let shots = || {
-        vec![
-            shot(0, d, Vec3::new(0.0, 0.0, 0.01), Vec3::new(30.0, 0.0, 0.0)),
-            shot(
-                1,
-                d,
-                Vec3::new(0.004, 0.0003, 0.01),
-                Vec3::new(-40.0, 0.0, 0.0),
-            ),
-        ]
-    };
-    let at = |tol: f64, s: Scheduler| {
-        let mut phys = contact_physics(None, Some(0.9));
-        phys.tolerance = tol;
-        run(phys, shots(), 3e-4, s)
-    };
+    let at = |tol: f64, s: Scheduler| off_centre_pair(tol, s, true);
     let (a, b) = (at(1e-6, Scheduler::Events), at(1e-6, Scheduler::Windows));
     let (a_ref, b_ref) = (at(1e-10, Scheduler::Events), at(1e-10, Scheduler::Windows));
     assert_eq!(a.scheduler, "events");
@@ -155,33 +161,41 @@ fn simulate(scene: &Scene) -> RunOutput {
         .run(&|_| {})
 }
 
+/// Three seeds of a 300-shot falling pack with scheduler `sch`, pooled: impacts, contacts,
+/// mean impact speed, contacts on the lean path, contacts found overlapping.
+fn pack_stats(sch: &str, lean: bool) -> (f64, f64, f64, f64, f64) {
+    let (mut impacts, mut onsets, mut speed, mut on_lean, mut late) = (0usize, 0u64, 0.0, 0, 0);
+    for seed in 1..=3 {
+        let mut scene = pack(300, 13.0, sch);
+        scene.seed = seed;
+        let out = Simulation::new(&scene, &scene.effects())
+            .unwrap()
+            .with_lean_contacts(lean)
+            .run(&|_| {});
+        assert_eq!(out.scheduler, sch);
+        impacts += out.impacts.len();
+        onsets += out.work.contact_onsets;
+        on_lean += out.work.lean_contacts;
+        late += out.work.late_contacts;
+        speed += out.impacts.iter().map(|i| i.speed_m_s).sum::<f64>();
+    }
+    (
+        impacts as f64,
+        onsets as f64,
+        speed / impacts as f64,
+        on_lean as f64,
+        late as f64,
+    )
+}
+
 /// A falling pack (LIGGGHTS' stream.in in small): collisions make single trajectories
 /// chaotic, so the two schedulers are compared on distributions (seeds pooled): impact
 /// and contact counts within 3 %, mean impact speed within 1 %, and the share of
 /// contacts the event scheduler found already overlapping below 0.2 %.
 #[test]
 fn a_falling_pack_has_the_window_schedulers_statistics() {
-    let mut stats = Vec::new();
-    for sch in ["events", "windows"] {
-        let (mut impacts, mut onsets, mut speed, mut late) = (0usize, 0u64, 0.0, 0u64);
-        for seed in 1..=3 {
-            let mut scene = pack(300, 13.0, sch);
-            scene.seed = seed;
-            let out = simulate(&scene);
-            assert_eq!(out.scheduler, sch);
-            impacts += out.impacts.len();
-            onsets += out.work.contact_onsets;
-            late += out.work.late_contacts;
-            speed += out.impacts.iter().map(|i| i.speed_m_s).sum::<f64>();
-        }
-        stats.push((
-            impacts as f64,
-            onsets as f64,
-            speed / impacts as f64,
-            late as f64,
-        ));
-    }
-    let (ev, win) = (stats[0], stats[1]);
+    let ev = pack_stats("events", true);
+    let win = pack_stats("windows", true);
     eprintln!("events {ev:?}\nwindows {win:?}");
     assert!(rel(ev.0, win.0) < 0.03, "impacts {} vs {}", ev.0, win.0);
     assert!(rel(ev.1, win.1) < 0.03, "contacts {} vs {}", ev.1, win.1);
@@ -191,7 +205,7 @@ fn a_falling_pack_has_the_window_schedulers_statistics() {
         ev.2,
         win.2
     );
-    assert!(ev.3 / ev.1 < 2e-3, "late contacts {} of {}", ev.3, ev.1);
+    assert!(ev.4 / ev.1 < 2e-3, "late contacts {} of {}", ev.4, ev.1);
 }
 
 /// Sequential and ordered by (time, kind, shots): the same bytes on 1 and 2 threads.
@@ -242,4 +256,42 @@ fn scheduler_choice_and_errors() {
         err.contains("integrator.scheduler") && err.contains("\"events\""),
         "{err}"
     );
+}
+
+/// The lean path (events/binary.rs: lone frictionless contacts in closed form and a
+/// two-body frame) against the island integrator it replaces, in the same event
+/// scheduler. A binary collision: the same outgoing velocities to 1e-7 of the closing
+/// speed at a tight tolerance (1e-10), within 1e-4 of the converged result at the default
+/// tolerance. A falling pack (chaotic, seeds pooled): impact and contact counts within
+/// 3 %, mean impact speed within 1 %, and most contacts on the lean path.
+#[test]
+fn the_lean_contact_path_matches_the_island_integrator() {
+    let closing = 70.0;
+    let at = |tol: f64, lean: bool| off_centre_pair(tol, Scheduler::Events, lean);
+    let (lean_ref, island_ref) = (at(1e-10, true), at(1e-10, false));
+    let (lean, island) = (at(1e-6, true), at(1e-6, false));
+    assert_eq!(lean.work.lean_contacts, 1);
+    assert_eq!(island.work.lean_contacts, 0);
+    for k in 0..2 {
+        let (x, y) = (&lean_ref.shots[k], &island_ref.shots[k]);
+        assert!(
+            (x.vel - y.vel).norm() < 1e-7 * closing,
+            "{:?} vs {:?}",
+            x.vel,
+            y.vel
+        );
+        assert!((x.pos - y.pos).norm() < 1e-9, "{:?} vs {:?}", x.pos, y.pos);
+        for o in [&lean, &island] {
+            assert_eq!(o.shots[k].collisions, 1);
+            assert!((o.shots[k].vel - x.vel).norm() < 1e-4 * closing);
+        }
+    }
+    let l = pack_stats("events", true);
+    let i = pack_stats("events", false);
+    eprintln!("lean {l:?}\nislands {i:?}");
+    assert!(rel(l.0, i.0) < 0.03, "impacts {} vs {}", l.0, i.0);
+    assert!(rel(l.1, i.1) < 0.03, "contacts {} vs {}", l.1, i.1);
+    assert!(rel(l.2, i.2) < 0.01, "mean impact speed {} vs {}", l.2, i.2);
+    assert!(l.3 > 0.5 * l.1, "lean contacts {} of {}", l.3, l.1);
+    assert_eq!(i.3, 0.0);
 }

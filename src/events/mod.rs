@@ -37,7 +37,10 @@
 //!
 //! A member gathered for safety that ends up touching nothing (no pair in its chunk, the
 //! specimen out of reach) is not integrated at all: it keeps its free path, its clock
-//! and its pending events. The queue is a calendar queue (queue.rs): same order as one
+//! and its pending events. A group with a single frictionless contact (two shots, or a
+//! shot and the specimen) whose other shots fly clear of it takes the lean path
+//! (binary.rs: closed-form flight, one body's state through the contact) instead of the
+//! island integrator; `Simulation::with_lean_contacts(false)` turns it off. The queue is a calendar queue (queue.rs): same order as one
 //! binary heap, cheaper pops.
 //!
 //! A cluster still in contact after its chunk (a shot resting on the specimen, a
@@ -45,6 +48,7 @@
 //! are released to free flight. Processing is sequential and ordered by (time, kind,
 //! shots): results do not depend on the thread count.
 
+pub mod binary;
 pub mod flight;
 pub mod grid;
 pub mod queue;
@@ -52,9 +56,11 @@ pub mod queue;
 use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::{PairContact, effective_mass, hertz};
+use crate::integrate::dopri::Dopri5;
 use crate::integrate::island::{
     self, IslandOutput, IslandPair, MIN_CONTACT_SPEED, Method, Physics, Scratch,
 };
+use crate::record::Impact;
 use crate::state::{ShotState, ShotStatus};
 use flight::{Flight, closest_approach, pair_touch};
 use grid::Grid;
@@ -237,6 +243,10 @@ struct Engine<'a> {
     next_gen: u32,
     out: IslandOutput,
     scratch: Scratch,
+    /// Stages of the lean contact path (`binary.rs`).
+    pair_dopri: Dopri5,
+    /// Whether lone contacts take the lean path.
+    lean: bool,
     cells: CellList,
     buf: Vec<usize>,
 }
@@ -247,9 +257,11 @@ pub fn run(
     phys: &Physics,
     shots: &mut [ShotState],
     end: f64,
+    lean: bool,
     progress: &(dyn Fn(f64) + Sync),
 ) -> IslandOutput {
     let mut eng = Engine::new(phys, shots, end);
+    eng.lean = lean;
     eng.run(progress);
     eng.out
 }
@@ -307,6 +319,8 @@ impl<'a> Engine<'a> {
             next_gen: 0,
             out: IslandOutput::default(),
             scratch: Scratch::default(),
+            pair_dopri: Dopri5::new(6),
+            lean: true,
             cells: CellList::default(),
             buf: Vec::new(),
             shots,
@@ -944,6 +958,83 @@ impl<'a> Engine<'a> {
                 unchanged[k] = true;
                 continue;
             }
+            // One frictionless contact (two shots, or a shot and the specimen), everyone
+            // else in the group flying clear of it: resolved in closed form and a
+            // two-body frame (binary.rs), no island.
+            if let Some((lean, o)) = self.try_lean(grp, &group_pairs[g], &copies, cl, s, e) {
+                let shots = &lean[..o.n];
+                for (q, &k) in shots.iter().enumerate() {
+                    let c = &mut copies[k];
+                    if o.n == 1 {
+                        if o.fresh {
+                            c.on_specimen = true;
+                            c.specimen_onset = o.onset;
+                            c.specimen_contact_time = o.contact_time;
+                            c.hits += 1;
+                            if c.hits == 1 {
+                                c.steps_to_first_contact = Some(c.steps);
+                            }
+                            out.impacts.push(Impact::new(
+                                c.id.0,
+                                o.onset,
+                                &o.at_onset.0,
+                                &o.at_onset.1,
+                                &c.omega,
+                                c.body.radius,
+                                c.body.mass,
+                                c.collisions,
+                                c.hits == 1,
+                            ));
+                        }
+                        if c.hits == 1 {
+                            c.first_contact_steps += o.steps;
+                        }
+                        c.on_specimen = o.touching;
+                    } else {
+                        c.collisions += u32::from(o.fresh);
+                    }
+                    (c.pos, c.vel) = o.state[q];
+                    c.steps += o.steps;
+                    c.ahead = None;
+                    t_end[k] = o.end;
+                    paths[k] = o.path(q).map(|(t, p, _)| (t, p)).collect();
+                    paths[k].push((o.end, o.state[q].0));
+                }
+                for &k in grp {
+                    if !shots.contains(&k) {
+                        let m = members[k];
+                        copies[k] = self.shots[m].clone();
+                        t_end[k] = self.t_ref[m];
+                        paths[k] = vec![(starts[k].2, starts[k].0), (e, self.state_at(m, e).0)];
+                        unchanged[k] = true;
+                    }
+                }
+                if o.n == 2 {
+                    let (la, lb) = (slot[lean[0]], slot[lean[1]]);
+                    for pr in group_pairs[g].iter_mut() {
+                        if (pr.a.min(pr.b), pr.a.max(pr.b)) == (la.min(lb), la.max(lb)) {
+                            pr.touching = o.touching;
+                            pr.onset = o.onset;
+                            pr.contact_time = o.contact_time;
+                        }
+                    }
+                }
+                v_seen = v_seen.max(o.v_max2);
+                let w = &mut out.work;
+                w.steps_accepted += o.steps;
+                w.steps_rejected += o.rejected;
+                w.shot_steps += o.n as u64 * o.steps;
+                w.rhs_evaluations += o.rhs;
+                if o.n == 2 {
+                    w.pair_contact_checks += o.rhs;
+                } else {
+                    w.specimen_contact_checks += o.rhs;
+                    w.gravity_calls += o.rhs;
+                }
+                w.contact_onsets += u64::from(o.fresh);
+                w.lean_contacts += u64::from(o.fresh);
+                continue;
+            }
             sub.clear();
             sub.extend(grp.iter().map(|&k| copies[k].clone()));
             let mut steps: Vec<(f64, Vec<Vec3>)> = Vec::new();
@@ -1041,6 +1132,207 @@ impl<'a> Engine<'a> {
             v_seen: v_seen.sqrt(),
             unchanged,
         }
+    }
+
+    /// The lean path (binary.rs) for group `grp` (cluster-local indices into `copies`,
+    /// states at `s`; `pairs` in group slots), if it applies: no friction, no nozzle
+    /// wall; every shot of the group free from `s` on; one contact in the group, in
+    /// progress or the group's first touch on free paths, between two shots or between a
+    /// shot and the specimen, over (or still on) at `e` with its shots inside the domain;
+    /// the shots of a pair clear of the specimen throughout; every other shot of the group
+    /// clear of the specimen, of the others' free paths and of the actual paths of the
+    /// contact's shots until they are handed back. Returns the contact's shots (cluster
+    /// indices, the first `n`) and the outcome; `None`: integrate the group as an island.
+    fn try_lean(
+        &mut self,
+        grp: &[usize],
+        pairs: &[IslandPair],
+        copies: &[ShotState],
+        cl: &Cluster,
+        s: f64,
+        e: f64,
+    ) -> Option<([usize; 2], binary::Outcome)> {
+        let c = &self.phys.contacts;
+        if !self.lean || c.friction.is_some() || c.wall.is_some() {
+            return None;
+        }
+        if !grp
+            .iter()
+            .all(|&k| copies[k].is_active() && !copies[k].on_wall)
+        {
+            return None;
+        }
+        // A shot resolved ahead (`t_start > s`) holds its state at its own clock and
+        // flies free from there.
+        let clock = |k: usize| copies[k].t_start.max(s);
+        let flight = self.flight;
+        let at = |k: usize, t: f64| flight.at(&copies[k].pos, &copies[k].vel, t - clock(k));
+        // Free paths are straight relative lines (the same gravity for all).
+        let touch = |i: usize, j: usize| {
+            let t0 = clock(i).max(clock(j));
+            let ((pi, vi), (pj, vj)) = (at(i, t0), at(j, t0));
+            let sigma = copies[i].body.radius + copies[j].body.radius;
+            let t = pair_touch(&(pj - pi), &(vj - vi), sigma)?;
+            (t0 + t < e).then_some(t0 + t)
+        };
+        let floor = |i: usize| {
+            let m = &copies[i];
+            c.specimen.as_ref()?;
+            let t = flight.down_through(m.pos.z, m.vel.z, m.body.radius)?;
+            (clock(i) + t < e).then_some(clock(i) + t)
+        };
+        // The contact: the one in progress (one at most), else the group's first touch.
+        // (`lean[1] == lean[0]`: the specimen.)
+        let mut on: Vec<([usize; 2], binary::InProgress)> = Vec::new();
+        for pr in pairs.iter().filter(|p| p.touching) {
+            let progress = binary::InProgress {
+                onset: pr.onset,
+                contact_time: pr.contact_time,
+            };
+            on.push(([grp[pr.a as usize], grp[pr.b as usize]], progress));
+        }
+        for &k in grp.iter().filter(|&&k| copies[k].on_specimen) {
+            let m = &copies[k];
+            let progress = binary::InProgress {
+                onset: m.specimen_onset,
+                contact_time: m.specimen_contact_time,
+            };
+            on.push(([k, k], progress));
+        }
+        let (lean, progress) = match on[..] {
+            [] => {
+                let (mut first, mut lean) = (f64::INFINITY, None);
+                for pr in pairs {
+                    let (i, j) = (grp[pr.a as usize], grp[pr.b as usize]);
+                    if let Some(t) = touch(i, j)
+                        && t < first
+                    {
+                        (first, lean) = (t, Some([i, j]));
+                    }
+                }
+                for &k in grp {
+                    if let Some(t) = floor(k)
+                        && t < first
+                    {
+                        (first, lean) = (t, Some([k, k]));
+                    }
+                }
+                (lean?, None)
+            }
+            [(lean, progress)] => (lean, Some(progress)),
+            _ => return None,
+        };
+        let n = if lean[0] == lean[1] { 1 } else { 2 };
+        let in_lean = |k: usize| k == lean[0] || k == lean[1];
+        if lean.iter().any(|&k| copies[k].t_start > s) {
+            return None;
+        }
+        // The other shots: clear of the specimen and of each other on free paths.
+        for &k in grp.iter().filter(|&&k| !in_lean(k)) {
+            if !self.flies_clear(&copies[k], clock(k), e) {
+                return None;
+            }
+        }
+        for pr in pairs {
+            let (i, j) = (grp[pr.a as usize], grp[pr.b as usize]);
+            if !in_lean(i) && !in_lean(j) && touch(i, j).is_some() {
+                return None;
+            }
+        }
+        let body = |m: &ShotState| binary::Body {
+            pos: m.pos,
+            vel: m.vel,
+            mass: m.body.mass,
+            radius: m.body.radius,
+        };
+        let set = binary::Settings {
+            tolerance: self.phys.tolerance,
+            contact_steps: self.phys.contact_steps,
+        };
+        let apart_after = cl.apart_after.max(s);
+        let o = if n == 2 {
+            binary::resolve(
+                &c.pair.as_ref()?.law,
+                &self.flight,
+                &body(&copies[lean[0]]),
+                &body(&copies[lean[1]]),
+                progress,
+                s,
+                e,
+                apart_after,
+                set,
+                &mut self.pair_dopri,
+            )?
+        } else {
+            binary::resolve_specimen(
+                &c.specimen.as_ref()?.law,
+                &self.flight,
+                &body(&copies[lean[0]]),
+                progress,
+                s,
+                e,
+                apart_after,
+                set,
+                &mut self.pair_dopri,
+            )?
+        };
+        if !o.state[..n]
+            .iter()
+            .all(|(p, _)| self.phys.domain.contains(p))
+        {
+            return None;
+        }
+        // Each shot's path: free flight (a parabola) from `s` to the contact, chords
+        // between the contact's samples (off the path by at most half a step times the
+        // step's change of velocity), free flight from the kink to `end`. After `end`
+        // the scheduler predicts the handed-back shots' touches as for any free shot.
+        let g = self.flight.g;
+        let specimen = c.specimen.is_some() && n == 2;
+        for q in 0..n {
+            let m = &copies[lean[q]];
+            let r = m.body.radius;
+            let path: Vec<(f64, Vec3, Vec3)> = o.path(q).collect();
+            let mut ok = !specimen
+                || [m.pos.z, path[0].1.z, o.at_kink[q].0.z, o.state[q].0.z]
+                    .into_iter()
+                    .all(|z| z - r > 0.0);
+            for w in path.windows(2) {
+                let ((t0, p0, v0), (t1, p1, v1)) = (w[0], w[1]);
+                let h = t1 - t0;
+                let dev = 0.5 * h * (v1 - v0).norm() + 0.5 * g * h * h;
+                ok &= !specimen || p0.z.min(p1.z) - r > dev;
+                let chord = (p1 - p0) / h.max(f64::MIN_POSITIVE);
+                for &k in grp.iter().filter(|&&k| !in_lean(k)) {
+                    let ta = t0.max(clock(k));
+                    if ta >= t1 {
+                        continue;
+                    }
+                    let (pc, vc) = at(k, ta);
+                    let p = p0 + chord * (ta - t0);
+                    let sigma = copies[k].body.radius + r;
+                    ok &= closest_approach(&(pc - p), &(vc - chord), t1 - ta) >= sigma + dev;
+                }
+            }
+            for &k in grp.iter().filter(|&&k| !in_lean(k)) {
+                let sigma = copies[k].body.radius + r;
+                for (t0, p, v, t1) in [
+                    (s, m.pos, m.vel, o.from),
+                    (o.kink, o.at_kink[q].0, o.at_kink[q].1, o.end),
+                ] {
+                    let ta = t0.max(clock(k));
+                    if ta >= t1 {
+                        continue;
+                    }
+                    let (pm, vm) = flight.at(&p, &v, ta - t0);
+                    let (pc, vc) = at(k, ta);
+                    ok &= closest_approach(&(pc - pm), &(vc - vm), t1 - ta) >= sigma;
+                }
+            }
+            if !ok {
+                return None;
+            }
+        }
+        Some((lean, o))
     }
 
     /// Pairs `(i, j)`, `i < j`, whose balls `(centres, radii)` overlap.

@@ -48,7 +48,7 @@ pub struct Physics {
     pub contacts: ContactSet,
     /// Relative error tolerance per step (default: `1e-6`).
     pub tolerance: f64,
-    /// Minimum number of steps per Hertz contact duration (default: `50`).
+    /// Minimum number of steps per Hertz contact duration (default: `10`).
     pub contact_steps: f64,
     /// Box outside which shots are dropped.
     pub domain: Domain,
@@ -108,7 +108,7 @@ impl Default for Scratch {
 
 /// Smallest step (s) the error controller may ask for before the run declares the
 /// shot's integration failed.
-const MIN_STEP: f64 = 1e-15;
+pub(crate) const MIN_STEP: f64 = 1e-15;
 /// Floor (m/s) of the closing speed used to estimate a contact's duration.
 pub(crate) const MIN_CONTACT_SPEED: f64 = 0.01;
 
@@ -1064,7 +1064,7 @@ struct Pushing {
 const KINK_SCALE: f64 = 1e-3;
 
 /// First step after a contact onset, as a fraction of the contact step.
-const ONSET_STEP: f64 = 0.01;
+pub(crate) const ONSET_STEP: f64 = 0.01;
 
 /// Advances the island's `members` (with candidate `pairs`) from `t0` to `t1`.
 pub fn advance(
@@ -1368,43 +1368,11 @@ fn advance_adaptive(
         // Events inside the step: cut the step back to the first one.
         if g1 < 0.0 {
             lands_at = None;
-            let (mut a, mut ga) = (0.0, g0.max(0.0));
-            let (mut b, mut gb) = (h, g1);
-            let mut side = 0i8;
-            for _ in 0..200 {
-                if gb > -tol_g || b - a <= 1e-13 * b {
-                    break;
-                }
-                // Secant (Illinois) point, kept a little inside the bracket: a root
-                // next to one end (a step that starts on a touch, a kink all but
-                // found) is then bracketed in a step or two instead of by bisection.
-                let guard = 1e-3 * (b - a);
-                let c = b - gb * (b - a) / (gb - ga);
-                let c = if c.is_finite() {
-                    c.clamp(a + guard, b - guard)
-                } else {
-                    0.5 * (a + b)
-                };
+            let b = first_crossing((0.0, g0.max(0.0)), (h, g1), tol_g, &mut |c| {
                 trial(&ctx, dopri, members, pairs, t, y, c, y_new, err, &mut work);
                 work.steps_rejected += 1;
-                let gc = ctx.event_margin(members, pairs, pushing, t + c, y_new);
-
-                if gc < 0.0 {
-                    b = c;
-                    gb = gc;
-                    if side == -1 {
-                        ga *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    a = c;
-                    ga = gc;
-                    if side == 1 {
-                        gb *= 0.5;
-                    }
-                    side = 1;
-                }
-            }
+                ctx.event_margin(members, pairs, pushing, t + c, y_new)
+            });
             if b != h {
                 h = b;
                 trial(&ctx, dopri, members, pairs, t, y, h, y_new, err, &mut work);
@@ -1467,6 +1435,48 @@ fn advance_adaptive(
     }
     out.work.add(&work);
     t
+}
+
+/// The end of the shortest step that takes a margin `g` from `>= 0` (at `lo`) to within
+/// `tol_g` below zero, given a bracket `(lo, g(lo))`, `(hi, g(hi) < 0)` of step lengths;
+/// `g` evaluates a trial step (the last evaluation need not be at the result). Illinois
+/// secant, with the secant point kept a little inside the bracket: a root next to one end
+/// (a step that starts on a touch, a kink all but found) is then bracketed in a step or
+/// two instead of by bisection.
+pub(crate) fn first_crossing(
+    (mut a, mut ga): (f64, f64),
+    (mut b, mut gb): (f64, f64),
+    tol_g: f64,
+    g: &mut dyn FnMut(f64) -> f64,
+) -> f64 {
+    let mut side = 0i8;
+    for _ in 0..200 {
+        if gb > -tol_g || b - a <= 1e-13 * b {
+            break;
+        }
+        let guard = 1e-3 * (b - a);
+        let c = b - gb * (b - a) / (gb - ga);
+        let c = if c.is_finite() {
+            c.clamp(a + guard, b - guard)
+        } else {
+            0.5 * (a + b)
+        };
+        let gc = g(c);
+        if gc < 0.0 {
+            (b, gb) = (c, gc);
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, ga) = (c, gc);
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
 }
 
 fn fail_island(

@@ -1,0 +1,705 @@
+//! Lone frictionless contacts in ballistic flight, resolved in closed form where the
+//! motion is free and in a two-body frame where it is not: the event scheduler's lean
+//! path for the contacts of a falling stream (a shot meeting one other shot, or the
+//! specimen, with nobody else near).
+//!
+//! * **Two shots.** Gravity is the same for both, so their centre of mass flies in closed
+//!   form and only the relative position `r = x_j - x_i` feels the contact,
+//!   `r'' = F(delta, delta') n / m*` with `delta = R_i + R_j - |r|`, `n = r / |r|`.
+//! * **A shot and the specimen.** `z'' = F(delta, delta') / m - g` with `delta = R - z`;
+//!   the motion along the plane is free.
+//!
+//! `F` is the island integrator's Hertz-Tsuji force, clamped at zero. The phases are
+//! those the island integrator goes through, in one body's state:
+//! * approach: free flight up to the touch, found in closed form (the impact record of a
+//!   specimen touch is taken there, exactly);
+//! * loading and unloading: Dormand-Prince steps with the island's error norm and caps
+//!   (first step 1 % of a contact step, then at most `t_c / contact_steps`);
+//! * the kink: the step that would take the unclamped force below zero is cut back to
+//!   where it crosses zero (a secant search on the step, as the island's event location);
+//! * release: with the force at zero the motion is free again (the overlap only falls, so
+//!   the force cannot return) and the parting time is closed form.
+//!
+//! A contact still on at the chunk's end is handed back touching and continued in the
+//! next chunk. Whatever this path does not cover (a contact found overlapping, too deep an
+//! overlap, one lasting beyond three Hertz times, a collapsing step) returns `None`, and
+//! the caller integrates the shots as an island instead.
+
+use crate::Vec3;
+use crate::contact::hertz::{self, HertzLaw};
+use crate::contact::{PairContact, effective_mass};
+use crate::integrate::dopri::Dopri5;
+use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing};
+
+use super::flight::{Flight, pair_touch};
+
+/// One shot at the start of the chunk.
+#[derive(Debug, Clone, Copy)]
+pub struct Body {
+    /// Position, m.
+    pub pos: Vec3,
+    /// Velocity, m/s.
+    pub vel: Vec3,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Radius, m.
+    pub radius: f64,
+}
+
+/// The integrator's settings.
+#[derive(Debug, Clone, Copy)]
+pub struct Settings {
+    /// Relative error per step.
+    pub tolerance: f64,
+    /// Steps per Hertz contact duration at most apart.
+    pub contact_steps: f64,
+}
+
+/// A contact already in progress at the start of the chunk.
+#[derive(Debug, Clone, Copy)]
+pub struct InProgress {
+    /// Touching time, s.
+    pub onset: f64,
+    /// Hertz duration estimate at the touch, s.
+    pub contact_time: f64,
+}
+
+/// How the contact went, for `n` shots (2: a pair, 1: a shot on the specimen; arrays
+/// hold them first).
+#[derive(Debug, Clone, Default)]
+pub struct Outcome {
+    /// Shots involved.
+    pub n: usize,
+    /// Touching time, s.
+    pub onset: f64,
+    /// Whether the contact started in this chunk (else it was in progress).
+    pub fresh: bool,
+    /// Position and velocity of the first shot at the touch (a specimen impact's record).
+    pub at_onset: (Vec3, Vec3),
+    /// Hertz duration estimate at the touch, s.
+    pub contact_time: f64,
+    /// Start of the contact phase in this chunk (the touch, or the chunk's start), s.
+    pub from: f64,
+    /// Time the force reached zero (the kink), s, or the chunk's end if it did not:
+    /// from then on the shots fly free until `end`.
+    pub kink: f64,
+    /// Positions and velocities at `kink`.
+    pub at_kink: [(Vec3, Vec3); 2],
+    /// Time the shots are handed back: just after they part, or the chunk's end.
+    pub end: f64,
+    /// Whether they still overlap at `end` (the contact continues in the next chunk).
+    pub touching: bool,
+    /// Positions and velocities at `end`.
+    pub state: [(Vec3, Vec3); 2],
+    /// Sample times: `from`, after every accepted step, and `kink`.
+    pub times: Vec<f64>,
+    /// Positions and velocities at the sample times, `n` per sample.
+    pub samples: Vec<(Vec3, Vec3)>,
+    /// Largest squared speed of any shot at the samples, m^2/s^2.
+    pub v_max2: f64,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected trials (error too large, or locating the kink).
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs: u64,
+}
+
+impl Outcome {
+    fn sample(&mut self, t: f64, st: &[(Vec3, Vec3)]) {
+        self.times.push(t);
+        for x in st {
+            self.v_max2 = self.v_max2.max(x.1.norm_squared());
+            self.samples.push(*x);
+        }
+    }
+
+    /// Records the end of the contact phase at `t` (the kink, or `e` if the contact
+    /// still pushes there: then it is handed back touching at `e`). Returns whether the
+    /// release follows.
+    fn end_phase(&mut self, t: f64, at: [(Vec3, Vec3); 2], pushing: bool, e: f64) -> bool {
+        self.kink = t;
+        self.at_kink = at;
+        self.sample(t, &at[..self.n]);
+        if pushing {
+            self.end = e;
+            self.touching = true;
+            self.state = at;
+        }
+        !pushing
+    }
+
+    /// Shot `q`'s (time, position, velocity) at each sample.
+    pub fn path(&self, q: usize) -> impl Iterator<Item = (f64, Vec3, Vec3)> + '_ {
+        self.times.iter().enumerate().map(move |(i, &t)| {
+            (
+                t,
+                self.samples[i * self.n + q].0,
+                self.samples[i * self.n + q].1,
+            )
+        })
+    }
+}
+
+/// The contact phase of a six-value state (position, velocity of the one moving body):
+/// [`Phase::run`] steps it from `t` to the kink or `e`, whichever comes first.
+struct Phase<'a> {
+    rhs: &'a dyn Fn(&[f64], &mut [f64]),
+    margin: &'a dyn Fn(&[f64]) -> f64,
+    overlap: &'a dyn Fn(&[f64]) -> f64,
+    /// Deepest overlap allowed (the island integrator stops the shots beyond it).
+    depth_limit: f64,
+    /// Error scale of positions and relative tolerance.
+    sx: f64,
+    tol: f64,
+    kink_tol: f64,
+    h_cap: f64,
+    tc: f64,
+    onset: f64,
+}
+
+impl<'a> Phase<'a> {
+    /// The phase of a contact of Hertz duration `tc` that began at `onset`, for bodies
+    /// no smaller than `r_min`.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        rhs: &'a dyn Fn(&[f64], &mut [f64]),
+        margin: &'a dyn Fn(&[f64]) -> f64,
+        overlap: &'a dyn Fn(&[f64]) -> f64,
+        depth_limit: f64,
+        r_min: f64,
+        set: Settings,
+        tc: f64,
+        onset: f64,
+    ) -> Self {
+        Phase {
+            rhs,
+            margin,
+            overlap,
+            depth_limit,
+            sx: set.tolerance * 2.0 * r_min,
+            tol: set.tolerance,
+            kink_tol: 1e-6 * r_min,
+            h_cap: tc / set.contact_steps,
+            tc,
+            onset,
+        }
+    }
+
+    /// Steps `(t, y)` through the contact (`fresh`: from the touch) until the force
+    /// reaches zero or `t` reaches `e`; `on_step` sees every accepted step before that.
+    /// Returns whether the contact still pushes at the returned `t`; `None` if the lean
+    /// path does not apply (too deep, too long, a collapsing step).
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        y: &mut [f64; 6],
+        t: &mut f64,
+        e: f64,
+        fresh: bool,
+        dopri: &mut Dopri5,
+        out: &mut Outcome,
+        on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64; 6]),
+    ) -> Option<bool> {
+        // A fresh contact pushes from the touch on; one in progress may be past its kink.
+        let mut pushing = fresh || (self.margin)(y) > 0.0;
+        let (mut y_new, mut err) = ([0.0; 6], [0.0; 6]);
+        // The first step after the touch is short (the dashpot's delta^(1/4)), as in the
+        // island integrator; a contact in progress starts at the contact step.
+        let mut h = if *t - self.onset < ONSET_STEP * self.h_cap {
+            ONSET_STEP * self.h_cap
+        } else {
+            self.h_cap
+        };
+        dopri.resize(6);
+        let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
+        let error_norm = |y: &[f64], err: &[f64]| {
+            let sv = self.tol * (Vec3::new(y[3], y[4], y[5]).norm() + 1.0);
+            (0..3).fold(0.0f64, |m, q| {
+                m.max(err[q].abs() / self.sx).max(err[3 + q].abs() / sv)
+            })
+        };
+        while pushing && *t < e {
+            if *t - self.onset > 3.0 * self.tc {
+                return None; // not an impact: let the island integrator hold it
+            }
+            h = h.min(self.h_cap);
+            let lands = *t + h >= e;
+            if lands {
+                h = e - *t;
+            }
+            let en = loop {
+                out.rhs += u64::from(dopri.step(&mut f, *t, y, h, &mut y_new, &mut err));
+                let en = if y_new.iter().all(|v| v.is_finite()) {
+                    error_norm(y, &err)
+                } else {
+                    f64::INFINITY
+                };
+                if en <= 1.0 {
+                    break en;
+                }
+                out.rejected += 1;
+                h *= if en.is_finite() {
+                    (0.9 * en.powf(-0.2)).max(0.2)
+                } else {
+                    0.25
+                };
+                if h < MIN_STEP {
+                    return None;
+                }
+            };
+            let full = h;
+            let g1 = (self.margin)(&y_new);
+            if g1 < 0.0 {
+                // Cut the step back to the kink (Illinois secant, kept inside the bracket).
+                pushing = false;
+                let hi = first_crossing(
+                    (0.0, (self.margin)(y).max(0.0)),
+                    (h, g1),
+                    self.kink_tol,
+                    &mut |c| {
+                        out.rhs += u64::from(dopri.step(&mut f, *t, y, c, &mut y_new, &mut err));
+                        out.rejected += 1;
+                        (self.margin)(&y_new)
+                    },
+                );
+                if hi != h {
+                    h = hi;
+                    out.rhs += u64::from(dopri.step(&mut f, *t, y, h, &mut y_new, &mut err));
+                }
+            }
+            out.steps += 1;
+            *y = y_new;
+            *t = if lands && h == full { e } else { *t + h };
+            dopri.accept_fsal();
+            let overlap = (self.overlap)(y);
+            if overlap > self.depth_limit {
+                return None; // too deep: the island integrator stops it with the message
+            }
+            if overlap <= 0.0 {
+                pushing = false;
+            }
+            if pushing && *t < e {
+                on_step(out, *t, y);
+            }
+            h *= if en > 0.0 {
+                (0.9 * en.powf(-0.2)).clamp(0.2, 5.0)
+            } else {
+                5.0
+            };
+        }
+        Some(pushing)
+    }
+}
+
+fn vecs(y: &[f64; 6]) -> (Vec3, Vec3) {
+    (Vec3::new(y[0], y[1], y[2]), Vec3::new(y[3], y[4], y[5]))
+}
+
+/// Resolves the contact of shots `a` and `b` (states at `s`) over the chunk `[s, e]`,
+/// the caller guaranteeing that nothing else touches them: from the touch (`progress`
+/// `None`: it must come before `e`) or from `s` (a contact in progress) until they part,
+/// or until `e` if they still overlap then. `apart_after`: parted shots are not handed
+/// back before this time (the island's rule).
+#[allow(clippy::too_many_arguments)]
+pub fn resolve(
+    law: &HertzLaw,
+    flight: &Flight,
+    a: &Body,
+    b: &Body,
+    progress: Option<InProgress>,
+    s: f64,
+    e: f64,
+    apart_after: f64,
+    set: Settings,
+    dopri: &mut Dopri5,
+) -> Option<Outcome> {
+    let sigma = a.radius + b.radius;
+    let r0 = b.pos - a.pos;
+    let v0 = b.vel - a.vel;
+    let m_eff = effective_mass(a.mass, b.mass);
+    let r_eff = PairContact::effective_radius(a.radius, b.radius);
+    let k = law.stiffness(r_eff);
+    let (onset, tc, from, r_from) = match progress {
+        None => {
+            if r0.norm() <= sigma {
+                return None;
+            }
+            let tau = pair_touch(&r0, &v0, sigma)?;
+            if s + tau >= e {
+                return None;
+            }
+            let r_on = r0 + v0 * tau;
+            let closing = -v0.dot(&r_on) / r_on.norm();
+            let tc = hertz::contact_time(m_eff, k, closing.max(MIN_CONTACT_SPEED));
+            (s + tau, tc, s + tau, r_on)
+        }
+        Some(p) => (p.onset, p.contact_time, s, r0),
+    };
+    let h_cap = tc / set.contact_steps;
+    let total = a.mass + b.mass;
+    let (wa, wb) = (b.mass / total, a.mass / total);
+    let com0 = (a.pos * a.mass + b.pos * b.mass) / total;
+    let vcom0 = (a.vel * a.mass + b.vel * b.mass) / total;
+    let lab = |t: f64, r: &Vec3, v: &Vec3| -> [(Vec3, Vec3); 2] {
+        let (c, vc) = flight.at(&com0, &vcom0, t - s);
+        [(c - r * wa, vc - v * wa), (c + r * wb, vc + v * wb)]
+    };
+    let mut out = Outcome {
+        n: 2,
+        onset,
+        fresh: progress.is_none(),
+        contact_time: tc,
+        from,
+        ..Outcome::default()
+    };
+    let st = lab(from, &r_from, &v0);
+    out.at_onset = st[0];
+    out.sample(from, &st);
+    let rhs = |y: &[f64], dy: &mut [f64]| {
+        let r = Vec3::new(y[0], y[1], y[2]);
+        let v = Vec3::new(y[3], y[4], y[5]);
+        dy[..3].copy_from_slice(&y[3..6]);
+        let d = r.norm();
+        let overlap = sigma - d;
+        let acc = if overlap > 0.0 && d > 0.0 {
+            let n = r / d;
+            n * (law.force(k, m_eff, overlap, -v.dot(&n)) / m_eff)
+        } else {
+            Vec3::zeros()
+        };
+        dy[3..].copy_from_slice(acc.as_slice());
+    };
+    let margin = |y: &[f64]| {
+        let r = Vec3::new(y[0], y[1], y[2]);
+        let d = r.norm();
+        let rate = -Vec3::new(y[3], y[4], y[5]).dot(&r) / d;
+        law.unloading_margin(k, m_eff, sigma - d, rate)
+    };
+    let overlap = |y: &[f64]| sigma - Vec3::new(y[0], y[1], y[2]).norm();
+    let r_min = a.radius.min(b.radius);
+    let phase = Phase::new(&rhs, &margin, &overlap, r_eff, r_min, set, tc, onset);
+    let mut y = [r_from.x, r_from.y, r_from.z, v0.x, v0.y, v0.z];
+    let mut t = from;
+    let pushing = phase.run(
+        &mut y,
+        &mut t,
+        e,
+        progress.is_none(),
+        dopri,
+        &mut out,
+        &mut |out, t, y| {
+            let (r, v) = vecs(y);
+            out.sample(t, &lab(t, &r, &v));
+        },
+    )?;
+    let (r, v) = vecs(&y);
+    if !out.end_phase(t, lab(t, &r, &v), pushing, e) {
+        return Some(out);
+    }
+    // Release: no force until the shots part, a straight line in `r`.
+    let c = r.norm_squared() - sigma * sigma;
+    let vv = v.norm_squared();
+    let b_half = r.dot(&v);
+    let part = if c >= 0.0 {
+        0.0
+    } else if vv > 0.0 {
+        (-b_half + (b_half * b_half - vv * c).sqrt()) / vv
+    } else {
+        return None;
+    };
+    // Handed back a thousandth of a contact step after parting (clearly apart), and not
+    // before `apart_after`; or at the chunk's end, still overlapping.
+    let end = (t + part + 1e-3 * h_cap).max(apart_after);
+    out.end = end.min(e);
+    out.touching = end > e;
+    let r_end = r + v * (out.end - t);
+    out.state = lab(out.end, &r_end, &v);
+    Some(out)
+}
+
+/// Resolves the contact of shot `a` (state at `s`) with the specimen (the plane `z = 0`,
+/// `law`) over the chunk `[s, e]`, as [`resolve`] does for a pair: from the touch
+/// (`progress` `None`) or from `s`, until the shot leaves the plane or until `e`.
+#[allow(clippy::too_many_arguments)]
+pub fn resolve_specimen(
+    law: &HertzLaw,
+    flight: &Flight,
+    a: &Body,
+    progress: Option<InProgress>,
+    s: f64,
+    e: f64,
+    apart_after: f64,
+    set: Settings,
+    dopri: &mut Dopri5,
+) -> Option<Outcome> {
+    let r = a.radius;
+    let m = a.mass;
+    let k = law.stiffness(r);
+    let (onset, tc, from, (p_from, v_from)) = match progress {
+        None => {
+            if a.pos.z <= r {
+                return None;
+            }
+            let tau = flight.down_through(a.pos.z, a.vel.z, r)?;
+            if s + tau >= e {
+                return None;
+            }
+            let (mut p, v) = flight.at(&a.pos, &a.vel, tau);
+            p.z = r; // on the plane, to rounding
+            let tc = hertz::contact_time(m, k, (-v.z).max(MIN_CONTACT_SPEED));
+            (s + tau, tc, s + tau, (p, v))
+        }
+        Some(pr) => (pr.onset, pr.contact_time, s, (a.pos, a.vel)),
+    };
+    let h_cap = tc / set.contact_steps;
+    let mut out = Outcome {
+        n: 1,
+        onset,
+        fresh: progress.is_none(),
+        at_onset: (p_from, v_from),
+        contact_time: tc,
+        from,
+        ..Outcome::default()
+    };
+    out.sample(from, &[(p_from, v_from)]);
+    let g = flight.g;
+    let rhs = |y: &[f64], dy: &mut [f64]| {
+        dy[..3].copy_from_slice(&y[3..6]);
+        let overlap = r - y[2];
+        let f = if overlap > 0.0 {
+            law.force(k, m, overlap, -y[5])
+        } else {
+            0.0
+        };
+        dy[3] = 0.0;
+        dy[4] = 0.0;
+        dy[5] = f / m - g;
+    };
+    let margin = |y: &[f64]| law.unloading_margin(k, m, r - y[2], -y[5]);
+    let overlap = |y: &[f64]| r - y[2];
+    let phase = Phase::new(&rhs, &margin, &overlap, 0.5 * r, r, set, tc, onset);
+    let mut y = [p_from.x, p_from.y, p_from.z, v_from.x, v_from.y, v_from.z];
+    let mut t = from;
+    let pushing = phase.run(
+        &mut y,
+        &mut t,
+        e,
+        progress.is_none(),
+        dopri,
+        &mut out,
+        &mut |out, t, y| out.sample(t, &[vecs(y)]),
+    )?;
+    let (p, v) = vecs(&y);
+    if !out.end_phase(t, [(p, v); 2], pushing, e) {
+        return Some(out);
+    }
+    // Release: free flight until the centre climbs back to one radius.
+    let part = if p.z >= r {
+        0.0
+    } else {
+        flight.up_through(p.z, v.z, r)?
+    };
+    let end = (t + part + 1e-3 * h_cap).max(apart_after);
+    out.end = end.min(e);
+    let (p_end, v_end) = flight.at(&p, &v, out.end - t);
+    out.touching = p_end.z < r;
+    out.state = [(p_end, v_end); 2];
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::hertz::HertzLaw;
+
+    fn law(e: f64) -> HertzLaw {
+        HertzLaw::new(210e9, 0.3, 210e9, 0.3, e)
+    }
+
+    fn shot(pos: Vec3, vel: Vec3) -> Body {
+        Body {
+            pos,
+            vel,
+            mass: 7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
+            radius: 0.4e-3,
+        }
+    }
+
+    fn run(l: &HertzLaw, a: &Body, b: &Body, g: f64, tol: f64) -> Outcome {
+        let mut d = Dopri5::new(6);
+        resolve(
+            l,
+            &Flight { g },
+            a,
+            b,
+            None,
+            0.0,
+            1e-4,
+            0.0,
+            Settings {
+                tolerance: tol,
+                contact_steps: 10.0,
+            },
+            &mut d,
+        )
+        .expect("a clean binary contact")
+    }
+
+    /// Head-on: the relative speed comes back times the restitution, momentum is kept,
+    /// the shots part, and the contact lasts about the Hertz time.
+    #[test]
+    fn head_on_returns_the_restitution() {
+        let l = law(0.9);
+        let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
+        let b = shot(Vec3::new(0.0, 0.0, 6e-3), Vec3::new(0.0, 0.0, -70.0));
+        let o = run(&l, &a, &b, 9.81, 1e-8);
+        let [(pa, va), (pb, vb)] = o.state;
+        let e = (vb.z - va.z) / 119.0;
+        assert!((e - 0.9).abs() < 1e-6, "restitution {e}");
+        let p0 = a.vel + b.vel;
+        let g = 9.81 * o.end;
+        assert!((va + vb - p0 + Vec3::new(0.0, 0.0, 2.0 * g)).norm() < 1e-9);
+        assert!((pb - pa).norm() > 0.8e-3);
+        // Touch at the closed-form time; the contact lasts between 0.9 and 1.1 Hertz
+        // times (the damping shortens it a little).
+        assert!((o.onset - 0.2e-3 / 119.0).abs() < 1e-15);
+        let lasted = o.end - o.onset;
+        assert!(lasted > 0.8 * o.contact_time && lasted < 1.1 * o.contact_time);
+    }
+
+    /// Oblique: the tangential relative velocity is unchanged by a frictionless contact
+    /// only in the frame of the final normal; the check here is the kinetic energy of
+    /// the relative motion, which the dashpot can only take away, and the angular
+    /// momentum of the pair about its centre of mass, which a central force keeps.
+    #[test]
+    fn oblique_keeps_angular_momentum_and_loses_energy() {
+        let l = law(0.9);
+        let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
+        let b = shot(Vec3::new(0.4e-3, 0.0, 6e-3), Vec3::new(0.0, 0.0, -70.0));
+        let o = run(&l, &a, &b, 0.0, 1e-8);
+        let [(pa, va), (pb, vb)] = o.state;
+        let (r0, v0) = (b.pos - a.pos, b.vel - a.vel);
+        let (r1, v1) = (pb - pa, vb - va);
+        let l0 = r0.cross(&v0);
+        let l1 = r1.cross(&v1);
+        assert!((l1 - l0).norm() < 1e-9 * l0.norm(), "{l0} {l1}");
+        assert!(v1.norm() < v0.norm());
+        assert!(v1.norm() > 0.9 * v0.norm());
+    }
+
+    /// A shot dropped on the specimen: the impact is recorded where the centre is one
+    /// radius up (closed form), the rebound speed is the restitution's, the contact lasts
+    /// about the Hertz time, and the shot is handed back clear of the plane.
+    #[test]
+    fn specimen_impact_returns_the_restitution() {
+        let l = law(0.7);
+        let a = shot(Vec3::new(1e-3, 0.0, 1e-3), Vec3::new(3.0, 0.0, -70.0));
+        let mut d = Dopri5::new(6);
+        let set = Settings {
+            tolerance: 1e-8,
+            contact_steps: 10.0,
+        };
+        let o = resolve_specimen(
+            &l,
+            &Flight { g: 0.0 },
+            &a,
+            None,
+            0.0,
+            1e-4,
+            0.0,
+            set,
+            &mut d,
+        )
+        .expect("a clean impact");
+        let touch = 0.6e-3 / 70.0;
+        assert!((o.onset - touch).abs() < 1e-15);
+        assert!((o.at_onset.0.z - 0.4e-3).abs() < 1e-15);
+        assert!((o.at_onset.0.x - (1e-3 + 3.0 * touch)).abs() < 1e-15);
+        let (p, v) = o.state[0];
+        assert!(
+            (v.z / 70.0 - 0.7).abs() < 1e-6,
+            "restitution {}",
+            v.z / 70.0
+        );
+        assert_eq!(v.x, 3.0);
+        assert!(p.z > 0.4e-3 && !o.touching);
+        let lasted = o.end - o.onset;
+        assert!(lasted > 0.8 * o.contact_time && lasted < 1.1 * o.contact_time);
+        // In two chunks (cut inside the contact, continued from the state handed back)
+        // it ends where one chunk does, to the tolerance.
+        let cut = o.onset + 0.4 * o.contact_time;
+        let first = resolve_specimen(&l, &Flight { g: 0.0 }, &a, None, 0.0, cut, 0.0, set, &mut d)
+            .expect("the first half");
+        assert!(first.touching && first.end == cut);
+        let b = Body {
+            pos: first.state[0].0,
+            vel: first.state[0].1,
+            ..a
+        };
+        let progress = InProgress {
+            onset: first.onset,
+            contact_time: first.contact_time,
+        };
+        let second = resolve_specimen(
+            &l,
+            &Flight { g: 0.0 },
+            &b,
+            Some(progress),
+            cut,
+            1e-4,
+            0.0,
+            set,
+            &mut d,
+        )
+        .expect("the second half");
+        assert!(!second.fresh && !second.touching);
+        assert!((second.state[0].1.z - v.z).abs() < 1e-6 * 70.0);
+        assert!((second.end - o.end).abs() < 1e-3 * o.contact_time);
+    }
+
+    /// A contact that does not end inside the chunk is handed back still touching.
+    #[test]
+    fn contact_past_the_chunk_continues() {
+        let l = law(0.9);
+        let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
+        let b = shot(Vec3::new(0.0, 0.0, 6e-3), Vec3::new(0.0, 0.0, -70.0));
+        let mut d = Dopri5::new(6);
+        let set = Settings {
+            tolerance: 1e-6,
+            contact_steps: 10.0,
+        };
+        let touch = 0.2e-3 / 119.0;
+        let flight = Flight { g: 0.0 };
+        assert!(
+            resolve(
+                &l,
+                &flight,
+                &a,
+                &b,
+                None,
+                0.0,
+                touch + 1e-7,
+                0.0,
+                set,
+                &mut d
+            )
+            .is_some_and(|o| o.touching)
+        );
+        assert!(
+            resolve(
+                &l,
+                &flight,
+                &a,
+                &b,
+                None,
+                0.0,
+                touch + 1e-5,
+                0.0,
+                set,
+                &mut d
+            )
+            .is_some_and(|o| !o.touching)
+        );
+    }
+}
