@@ -7,12 +7,10 @@
 mod common;
 use common::*;
 use peenflow::Vec3;
-use peenflow::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact};
-use peenflow::forces::{ForceSet, ShotBody};
 use peenflow::integrate::Physics;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;
-use peenflow::state::{Domain, ShotId, ShotState};
+use peenflow::state::ShotState;
 use proptest::prelude::*;
 
 fn cases() -> u32 {
@@ -58,16 +56,11 @@ fn place(enc: &Encounter) -> Vec<ShotState> {
         .iter()
         .enumerate()
         .map(|(k, (d, p, v))| {
-            let body = ShotBody {
-                radius: 0.5 * d,
-                mass: RHO_SHOT * std::f64::consts::PI / 6.0 * d * d * d,
-            };
-            ShotState::new(
-                ShotId(k as u32),
+            shot(
+                k as u32,
+                *d,
                 Vec3::new(p[0], p[1], 5e-3 + p[2]),
                 Vec3::new(v[0], v[1], v[2]),
-                body,
-                0.0,
             )
         })
         .collect()
@@ -75,34 +68,9 @@ fn place(enc: &Encounter) -> Vec<ShotState> {
 
 /// Steel shots in vacuum, the encounter's restitutions, integrator tolerance `tol`.
 fn physics(enc: &Encounter, tol: f64) -> Physics {
-    let law = |e| HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, e);
-    Physics {
-        forces: ForceSet {
-            drag: None,
-            lateral: None,
-            gravity: None,
-            field: None,
-            turbulence: None,
-        },
-        contacts: ContactSet {
-            specimen: enc.with_specimen.then(|| SpecimenContact {
-                law: law(enc.e_wall),
-            }),
-            wall: None,
-            pair: Some(PairContact {
-                law: law(enc.e_pair),
-            }),
-            friction: None,
-        },
-        tolerance: tol,
-        contact_steps: 50.0,
-        domain: Domain {
-            radius: 100.0,
-            top: 100.0,
-        },
-        max_step: 1e-3,
-        method: peenflow::integrate::island::Method::Adaptive,
-    }
+    let mut phys = contact_physics(enc.with_specimen.then_some(enc.e_wall), Some(enc.e_pair));
+    phys.tolerance = tol;
+    phys
 }
 
 proptest! {
