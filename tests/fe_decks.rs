@@ -4,8 +4,11 @@
 //!   physics is checked: every shot rebounds with a restitution in [0.1, 0.5] (a 0.8 mm
 //!   steel shot into A5052: measured 0.24-0.29 in the reference study), the target shows
 //!   plastic strain under the impacts, the energy balance closes within 5 %, and ccx's
-//!   initial kinetic energy matches 1/2 m v^2 of the exported shots within 10 %.
-//! * LS-DYNA: structural checks with an independent keyword reader (ansys-dyna-core).
+//!   initial kinetic energy matches 1/2 m v^2 of the exported shots within 10 %. A
+//!   spinning shot moves as a rigid body with its spin (node velocity, rotation node,
+//!   initial energy with I omega^2 / 2).
+//! * LS-DYNA: structural checks with an independent keyword reader (ansys-dyna-core),
+//!   including a spinning shot's velocity generation card.
 //! * Abaqus: every *INITIAL CONDITIONS line is exactly (set, dof, value); meshio reads the mesh.
 //! * Golden decks for a 3-impact fixture, byte for byte (PEENFLOW_BLESS=1 rewrites them).
 //! * SI and mm-t-s decks differ exactly by the unit factors.
@@ -39,6 +42,21 @@ fn have(cmd: &str, probe: &[&str]) -> bool {
 
 fn python_has(module: &str) -> bool {
     have("python3", &["-c", &format!("import {module}")])
+}
+
+/// Runs `tests/tools/<tool>` with `args` and fails with its output unless it succeeds.
+fn python_check(tool: &str, args: &[String]) {
+    let o = Command::new("python3")
+        .arg(root().join("tests/tools").join(tool))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 /// Runs a fixture scene and exports a deck; returns the output directory.
@@ -331,13 +349,13 @@ fn golden_decks_for_a_three_impact_fixture() {
     }
 }
 
-fn deck_counts(impacts: &[Impact]) -> (usize, usize) {
+fn deck_counts(impacts: &[Impact], rigid_shots: bool) -> (usize, usize) {
     let scene = Scene::default_scene();
     let model = deck::build(
         impacts,
         &DeckSettings {
             units: UnitSystem::MmTonneS,
-            rigid_shots: true,
+            rigid_shots,
             shot_cells: 2,
             element_size: Some(0.4e-3),
             shot_material: scene.shot_material.clone(),
@@ -365,35 +383,17 @@ fn lsdyna_and_abaqus_decks_pass_independent_readers() {
         &fixture_request(tmp.path(), formats, UnitSystem::MmTonneS),
     )
     .unwrap();
-    let (nodes, elements) = deck_counts(&impacts);
+    let (nodes, elements) = deck_counts(&impacts, true);
     let counts = [nodes.to_string(), elements.to_string(), "3".to_string()];
     if python_has("ansys.dyna.core") {
-        let o = Command::new("python3")
-            .arg(root().join("tests/tools/check_lsdyna.py"))
-            .arg(tmp.path().join("lsdyna.k"))
-            .args(&counts)
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{}{}",
-            String::from_utf8_lossy(&o.stdout),
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let mut args = vec![tmp.path().join("lsdyna.k").display().to_string()];
+        args.extend(counts.iter().cloned());
+        python_check("check_lsdyna.py", &args);
     }
     if python_has("meshio") {
-        let o = Command::new("python3")
-            .arg(root().join("tests/tools/check_abaqus.py"))
-            .arg(tmp.path().join("abaqus.inp"))
-            .args(&counts)
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{}{}",
-            String::from_utf8_lossy(&o.stdout),
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let mut args = vec![tmp.path().join("abaqus.inp").display().to_string()];
+        args.extend(counts.iter().cloned());
+        python_check("check_abaqus.py", &args);
     }
 }
 
@@ -469,5 +469,203 @@ fn si_and_mm_decks_differ_exactly_by_unit_factors() {
         assert!(checked > 1000, "{checked}");
         // The density line: the shot density (scaled for the meshed ball) in both.
         assert!(si.contains("*DENSITY") && mm.contains("*DENSITY"));
+    }
+}
+
+/// One impact record of a 0.8 mm steel shot at the origin, velocity `v`, spin `w`.
+fn spinning_impact(v: [f64; 3], w: [f64; 3]) -> Impact {
+    Impact::new(
+        1,
+        1e-3,
+        &peenflow::Vec3::new(0.0, 0.0, 0.4e-3),
+        &peenflow::Vec3::from(v),
+        &peenflow::Vec3::from(w),
+        0.4e-3,
+        7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
+        1,
+        false,
+    )
+}
+
+/// A spinning shot (friction on in the run: spin 45,000 rad/s about y, 60 m/s down): the
+/// CalculiX deck sets its rigid-body velocity node by node and its angular velocity on
+/// the rotation node, and ccx moves it that way. Checked at ccx's first output, before
+/// the contact: a surface node's velocity is `v + omega x r` (within 2 % of `omega R`,
+/// the rotation in that time), the rotation node carries `omega`, and ccx's initial
+/// kinetic energy is `m v^2 / 2 + I omega^2 / 2` within 1 % (measured 0.15 %; the spin's
+/// share is 3.5 %).
+#[test]
+fn calculix_spinning_shot_keeps_its_spin() {
+    if !have("ccx", &["-v"]) {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (r, m) = (
+        0.4e-3,
+        7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
+    );
+    let (v, w) = ([0.0, 0.0, -60.0], [0.0, 45_000.0, 0.0]);
+    let impact = spinning_impact(v, w);
+    let mut req = fixture_request(
+        tmp.path(),
+        vec![Format::Deck(DeckFormat::Calculix)],
+        UnitSystem::MmTonneS,
+    );
+    req.shot_cells = None;
+    req.element_size = None;
+    export(&[impact], &Scene::default_scene(), "spin", &req).unwrap();
+    let path = tmp.path().join("calculix.inp");
+    let deck = std::fs::read_to_string(&path).unwrap();
+    let ic = &deck[deck.find("*INITIAL CONDITIONS").unwrap()..];
+    assert!(
+        ic.starts_with("*INITIAL CONDITIONS, TYPE=VELOCITY\n** SHOT1 spins at 45000"),
+        "no spin in the deck:\n{}",
+        &ic[..300]
+    );
+    // Nodes and the probe: the ball's first node, its reference and rotation nodes.
+    let rigid = deck
+        .lines()
+        .find(|l| l.starts_with("*RIGID BODY"))
+        .unwrap()
+        .to_string();
+    // The first number after `after` in `text`.
+    let first_id = |text: &str, after: &str| -> u32 {
+        let rest = &text[text.find(after).unwrap() + after.len()..];
+        let digits: String = rest
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_digit())
+            .collect();
+        digits.parse().unwrap()
+    };
+    let (ref_node, rot_node) = (first_id(&rigid, "REF NODE="), first_id(&rigid, "ROT NODE="));
+    let probe = first_id(&deck, "*NSET, NSET=SHOT1_BODY\n");
+    let coords = |n: u32| -> [f64; 3] {
+        let l = deck
+            .lines()
+            .find(|l| l.starts_with(&format!("{n}, ")) && l.split(',').count() == 4)
+            .unwrap();
+        let v: Vec<f64> = l
+            .split(',')
+            .skip(1)
+            .map(|x| x.trim().parse().unwrap())
+            .collect();
+        [v[0], v[1], v[2]]
+    };
+    let probed = deck.replace(
+        "*NODE PRINT, NSET=REFNODES",
+        &format!("*NSET, NSET=PROBE\n{probe}, {ref_node}, {rot_node}\n*NODE PRINT, NSET=PROBE"),
+    );
+    std::fs::write(&path, probed).unwrap();
+    let res = run_ccx(tmp.path());
+    let first = series(&res, "velocities (vx,vy,vz) for set PROBE")[0];
+    let row = |n: u32| {
+        first
+            .rows
+            .iter()
+            .find(|row| row[0] as u32 == n)
+            .unwrap()
+            .clone()
+    };
+    // mm/s: v in mm/s plus omega x r with r in mm.
+    let (x, c) = (coords(probe), coords(ref_node));
+    let d = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+    let want = [
+        1e3 * v[0] + w[1] * d[2] - w[2] * d[1],
+        1e3 * v[1] + w[2] * d[0] - w[0] * d[2],
+        1e3 * v[2] + w[0] * d[1] - w[1] * d[0],
+    ];
+    let got = row(probe);
+    let surface_speed = w[1] * 1e3 * r;
+    println!(
+        "probe node {probe}: ccx {:?}, rigid body {want:?}",
+        &got[1..]
+    );
+    for k in 0..3 {
+        assert!(
+            (got[1 + k] - want[k]).abs() < 0.02 * surface_speed,
+            "component {k}: {} vs {}",
+            got[1 + k],
+            want[k]
+        );
+    }
+    let spin = row(rot_node);
+    for k in 0..3 {
+        assert!((spin[1 + k] - w[k]).abs() < 1e-6 * 45_000.0, "{spin:?}");
+    }
+    // mJ (t mm^2 / s^2): mass in t, lengths in mm.
+    let translation = 0.5 * m * 1e-3 * (1e3 * 60.0f64).powi(2);
+    let ke = translation + 0.5 * 0.4 * m * 1e-3 * (r * 1e3).powi(2) * 45_000.0f64.powi(2);
+    println!(
+        "ccx initial energy {:.5} mJ, m v^2/2 + I w^2/2 = {ke:.5} mJ",
+        res.initial_energy
+    );
+    assert!(rel(res.initial_energy, ke) < 0.01);
+    assert!(
+        res.initial_energy > 1.02 * translation,
+        "the spin's energy is missing"
+    );
+}
+
+/// The same spinning shot in the Abaqus and LS-DYNA decks: Abaqus puts the angular
+/// velocity on the rigid body's reference node (dofs 4-6) and, for elastic shots, the
+/// rigid-body velocity on every node; LS-DYNA's *INITIAL_VELOCITY_GENERATION spins the
+/// part at |omega| about omega's axis through the shot's centre (read back by the
+/// independent keyword reader). Shots without spin keep one velocity per set.
+#[test]
+fn spinning_shots_in_abaqus_and_lsdyna_decks() {
+    let one = &[spinning_impact(
+        [3.0, 0.0, -60.0],
+        [30_000.0, 40_000.0, 0.0],
+    )];
+    for rigid in [true, false] {
+        let tmp = tempfile::tempdir().unwrap();
+        let mut req = fixture_request(
+            tmp.path(),
+            vec![
+                Format::Deck(DeckFormat::Abaqus),
+                Format::Deck(DeckFormat::LsDyna),
+            ],
+            UnitSystem::MmTonneS,
+        );
+        req.rigid_shots = rigid;
+        export(one, &Scene::default_scene(), "spin", &req).unwrap();
+        let abq = std::fs::read_to_string(tmp.path().join("abaqus.inp")).unwrap();
+        let ic: Vec<&str> = abq
+            .split("*INITIAL CONDITIONS, TYPE=VELOCITY\n")
+            .nth(1)
+            .unwrap()
+            .lines()
+            .take_while(|l| !l.starts_with('*') || l.starts_with("**"))
+            .filter(|l| !l.starts_with("**"))
+            .collect();
+        for l in &ic {
+            assert_eq!(l.split(',').count(), 3, "{l}");
+        }
+        if rigid {
+            assert_eq!(
+                &ic[3..],
+                [
+                    "SHOT1_REF, 4, 30000.",
+                    "SHOT1_REF, 5, 40000.",
+                    "SHOT1_REF, 6, 0."
+                ]
+            );
+        } else {
+            let nodes = deck_counts(one, false).0;
+            // Every node of the ball (the target's nodes come first) has its own three lines.
+            assert!(ic.len() >= 3 * 27 && ic.len() < 3 * nodes, "{}", ic.len());
+            assert!(ic.iter().all(|l| !l.starts_with("SHOT1_BODY")));
+        }
+        if python_has("ansys.dyna.core") {
+            let (nodes, elements) = deck_counts(one, rigid);
+            let deck = tmp.path().join("lsdyna.k").display().to_string();
+            let args = [&deck, &nodes.to_string(), &elements.to_string(), "1"]
+                .into_iter()
+                .chain(["50000", "0.6", "0.8", "0"])
+                .map(String::from)
+                .collect::<Vec<_>>();
+            python_check("check_lsdyna.py", &args);
+        }
     }
 }

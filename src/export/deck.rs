@@ -264,6 +264,19 @@ pub struct ShotCtx {
     pub contact_centre: [f64; 3],
     /// Velocity vector.
     pub velocity: [f64; 3],
+    /// Angular velocity vector (spin, with friction on), rad per time unit (s in both
+    /// unit systems); zero without friction.
+    pub omega: [f64; 3],
+    /// Spin rate `|omega|`; 0: the shot does not spin and its velocity is one vector.
+    pub spin: f64,
+    /// Unit vector along `omega` (zero when it does not spin).
+    pub spin_axis: [f64; 3],
+    /// A spinning shot's rigid-body velocity `v + omega x (x - centre)` at each of its
+    /// nodes (and the reference node), for decks that set velocities node by node;
+    /// empty when it does not spin.
+    pub node_velocities: Vec<NodeVelocity>,
+    /// Rotational kinetic energy `I omega^2 / 2`, `I = 2 m r^2 / 5`.
+    pub spin_energy: f64,
     /// Speed.
     pub speed: f64,
     /// Normal speed into the target.
@@ -280,6 +293,15 @@ pub struct ShotCtx {
     pub source_shot: u32,
     /// The impact record's time in the run, s.
     pub source_time_s: f64,
+}
+
+/// One node's initial velocity.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct NodeVelocity {
+    /// Node id.
+    pub node: u32,
+    /// Velocity vector.
+    pub velocity: [f64; 3],
 }
 
 /// The target block.
@@ -472,6 +494,29 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         };
         let mass = rho_s * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
         let speed = i.speed_m_s;
+        let omega = [i.omega_x_rad_s, i.omega_y_rad_s, i.omega_z_rad_s];
+        let spin = omega.iter().map(|w| w * w).sum::<f64>().sqrt();
+        let node_velocities = if spin > 0.0 {
+            let rigid = |x: [f64; 3]| {
+                let d = [x[0] - start[0], x[1] - start[1], x[2] - start[2]];
+                let w = omega;
+                [
+                    v[0] + w[1] * d[2] - w[2] * d[1],
+                    v[1] + w[2] * d[0] - w[0] * d[2],
+                    v[2] + w[0] * d[1] - w[1] * d[0],
+                ]
+                .map(|c| c * u.velocity_factor)
+            };
+            (dn + 1..=dn + ball.nodes.len() as u32)
+                .chain(std::iter::once(ref_node).filter(|&n| n > dn + ball.nodes.len() as u32))
+                .map(|n| NodeVelocity {
+                    node: n,
+                    velocity: rigid(mesh.nodes[(n - 1) as usize]),
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         shots.push(ShotCtx {
             n: k + 1,
             name,
@@ -492,6 +537,15 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
             start: start.map(|c| c * u.length_factor),
             contact_centre: contact.map(|c| c * u.length_factor),
             velocity: v.map(|c| c * u.velocity_factor),
+            omega,
+            spin,
+            spin_axis: if spin > 0.0 {
+                omega.map(|w| w / spin)
+            } else {
+                [0.0; 3]
+            },
+            node_velocities,
+            spin_energy: 0.2 * mass * r * r * spin * spin * u.energy_factor,
             speed: speed * u.velocity_factor,
             normal_speed: i.normal_speed_m_s * u.velocity_factor,
             contact_time: dt,

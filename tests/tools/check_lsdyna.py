@@ -4,8 +4,9 @@ raw keywords or wrong values silently), so the checks are our own:
 every keyword parsed (no raw string keywords, no warnings); fixed columns (no line over
 80 columns, no tabs; *NODE rows are 8+16+16+16+8+8 wide, *ELEMENT_SOLID rows 10x8);
 no dangling part/section/material/node ids; counts of nodes, elements, parts and
-initial velocities as given on the command line.
-usage: check_lsdyna.py DECK NODES ELEMENTS SHOTS"""
+initial velocities as given on the command line; with SPIN, the first shot's velocity
+generation card spins at OMEGA rad/s about the axis (NX, NY, NZ) through its centre.
+usage: check_lsdyna.py DECK NODES ELEMENTS SHOTS [OMEGA NX NY NZ]"""
 import sys
 import warnings
 
@@ -64,6 +65,14 @@ vel = by.get("InitialVelocityGeneration", [])
 assert len(vel) == n_shots, len(vel)
 for v in vel:
     assert int(v.id) in parts and int(v.styp) == 2
+if len(sys.argv) > 5:
+    omega, *axis = map(float, sys.argv[5:9])
+    v = vel[0]
+    assert abs(v.omega - omega) <= 1e-6 * omega, (v.omega, omega)
+    got = [v.nx, v.ny, v.nz]
+    assert all(abs(a - b) <= 1e-6 for a, b in zip(got, axis)), (got, axis)
+else:
+    assert all(float(v.omega) == 0.0 for v in vel)
 for c in by.get("ContactAutomaticSurfaceToSurface", []):
     assert int(c.surfa) in parts and int(c.surfb) in parts and int(c.surfatyp) == 3 == int(c.surfbtyp)
 assert len(by.get("ContactAutomaticSurfaceToSurface", [])) == n_shots
