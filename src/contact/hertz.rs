@@ -59,11 +59,14 @@ impl HertzLaw {
     /// unclamped force over `K`, as a length (`g / sqrt(delta)`, about the overlap while
     /// loading, and smooth through its root, so the secant search that locates it
     /// converges fast). Positive while the contact pushes; the integrator ends a step
-    /// where it crosses zero, so no step straddles the kink.
+    /// where it crosses zero, so no step straddles the kink. Once the bodies are apart
+    /// it is the (negative) gap: a step that carries a pushing contact past both its kink
+    /// and its parting still sees the crossing (it returned 0 there until session 6, and
+    /// such steps went unlocated: a rebound error of 2e-4 at tolerance 1e-5).
     #[inline]
     pub fn unloading_margin(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
         if overlap <= 0.0 {
-            return 0.0;
+            return overlap;
         }
         overlap + self.damping * (m_eff / k).sqrt() * overlap_rate / overlap.sqrt().sqrt()
     }
