@@ -500,12 +500,14 @@ impl Ctx<'_> {
     }
 
     /// Shot-shot and wall contact onsets inside the accepted step `[t0, t0 + h]` (start
-    /// `y0`, end `y1`): contacts open at the start that overlap at the end. Contact forces
-    /// are continuous at the onset, so the step stands (re-stepping a large island for
-    /// every collision would cost far more); the onset time, position and velocity come
-    /// from the cubic Hermite interpolant of the step, whose gap root is found by
-    /// bisection. Specimen onsets were located exactly before (they end the step), and
-    /// are only caught here if a shot entered the run overlapping the specimen.
+    /// `y0`, end `y1`): contacts open at the start that overlap at the end. The onset
+    /// time, position and velocity come from the cubic Hermite interpolant of the step,
+    /// whose gap root is found by bisection. A shot-shot touch at an impact's speed was
+    /// located before (it ends the step, so its onset is the step's end); slower ones
+    /// (a resting pile's) and wall touches let the step stand, their force being
+    /// continuous at the onset. Specimen onsets were located exactly before (they end
+    /// the step), and are only caught here if a shot entered the run overlapping the
+    /// specimen.
     #[allow(clippy::too_many_arguments)]
     fn record_onsets(
         &self,
