@@ -1,5 +1,6 @@
-//! Property tests (proptest) over random two- and three-shot encounters and random scenes
-//! inside the documented ranges, checking the hard-case invariants: every state finite, no
+//! Property tests (proptest) over random two- and three-shot encounters (on either
+//! scheduler) and random scenes inside the documented ranges, checking the hard-case
+//! invariants: every state finite, no
 //! run-time failure, momentum conserved to round-off without walls, energy never gained
 //! (kept within 0.1 % when undamped), no overlap left at the end, impact speeds below the
 //! fastest air in the jet. Case counts: PROPTEST_CASES (default 48 here).
@@ -26,6 +27,9 @@ struct Encounter {
     e_pair: f64,
     e_wall: f64,
     with_specimen: bool,
+    /// Run on the window scheduler (island integrator) instead of the automatic choice
+    /// (the event scheduler here, with its lean contact path).
+    windows: bool,
 }
 
 fn encounter() -> impl Strategy<Value = Encounter> {
@@ -41,13 +45,17 @@ fn encounter() -> impl Strategy<Value = Encounter> {
         prop_oneof![Just(1.0), 0.05..1.0f64],
         0.05..=1.0f64,
         any::<bool>(),
+        any::<bool>(),
     )
-        .prop_map(|(shots, e_pair, e_wall, with_specimen)| Encounter {
-            shots,
-            e_pair,
-            e_wall,
-            with_specimen,
-        })
+        .prop_map(
+            |(shots, e_pair, e_wall, with_specimen, windows)| Encounter {
+                shots,
+                e_pair,
+                e_wall,
+                with_specimen,
+                windows,
+            },
+        )
 }
 
 /// The encounter's shots, 5 mm above the specimen.
@@ -116,7 +124,14 @@ proptest! {
         let p = |s: &[ShotState]| s.iter().map(|s| s.vel * s.body.mass).sum::<Vec3>();
         let (ke0, p0) = (ke(&shots), p(&shots));
         let scale: f64 = shots.iter().map(|s| s.body.mass * s.vel.norm()).sum::<f64>().max(1e-12);
-        let out = Simulation::from_parts(phys, shots, 2e-4).run(&|_| {});
+        let scheduler = if enc.windows {
+            peenflow::sim::Scheduler::Windows
+        } else {
+            peenflow::sim::Scheduler::Auto
+        };
+        let out = Simulation::from_parts(phys, shots, 2e-4)
+            .with_scheduler(scheduler)
+            .run(&|_| {});
         prop_assert!(out.events.is_empty(), "{:?}", out.events);
         for s in &out.shots {
             prop_assert!(s.pos.iter().chain(s.vel.iter()).all(|v| v.is_finite()));
