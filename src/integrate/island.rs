@@ -375,9 +375,10 @@ impl Ctx<'_> {
     /// `pushing` at the step start, weighted by `KINK_SCALE`), and two shots touching at
     /// an impact's closing speed (the dashpot's `delta^(1/4)` makes the force's slope
     /// infinite at the touch, which a step straddling it integrates badly and its error
-    /// estimate underrates: measured, a rebound error of 1.7e-5 at tolerance 1e-6).
-    /// Positive: none. Slower shot-shot onsets (a resting pile's contacts) and wall onsets
-    /// do not cut steps (see [`Ctx::record_onsets`]).
+    /// estimate underrates: measured, a rebound error of 1.7e-5 at tolerance 1e-6), and
+    /// the same two events of the nozzle wall (its touch at an impact's speed, its kink).
+    /// Positive: none. Slower shot-shot and wall onsets (a resting pile's contacts) do not
+    /// cut steps (see [`Ctx::record_onsets`]).
     fn event_margin(
         &self,
         members: &[ShotState],
@@ -404,6 +405,9 @@ impl Ctx<'_> {
                     g = g.min(KINK_SCALE * self.specimen_unloading(m, i, y));
                 }
             }
+            if pushing.wall[i] != WallEvent::None {
+                g = g.min(KINK_SCALE * self.wall_margin(m, i, y, pushing.wall[i]));
+            }
         }
         for (q, pr) in pairs.iter().enumerate() {
             if pushing.pairs[q] {
@@ -428,6 +432,28 @@ impl Ctx<'_> {
         let overlap = -sp.gap(&pos(y, i), m.body.radius);
         sp.law
             .unloading_margin(k, m.body.mass, overlap, -vel(y, i).z)
+    }
+
+    /// Member `i`'s nozzle-wall margin for `what`: the gap while approaching, the
+    /// [`HertzLaw::unloading_margin`] while pushing (no event where the shot is out of
+    /// the wall's reach).
+    fn wall_margin(&self, m: &ShotState, i: usize, y: &[f64], what: WallEvent) -> f64 {
+        let Some(w) = &self.phys.contacts.wall else {
+            return f64::INFINITY;
+        };
+        let p = pos(y, i);
+        let Some(geo) = w.geometry(&p, m.body.radius) else {
+            return f64::INFINITY;
+        };
+        match what {
+            WallEvent::Touch => geo.gap,
+            WallEvent::Kink => {
+                let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                w.law
+                    .unloading_margin(k, m.body.mass, -geo.gap, vel(y, i).dot(&geo.outward))
+            }
+            WallEvent::None => f64::INFINITY,
+        }
     }
 
     /// [`HertzLaw::unloading_margin`] of a touching pair.
@@ -485,6 +511,34 @@ impl Ctx<'_> {
                 && moving(&members[pr.b as usize], t)
                 && self.pair_unloading(members, pr, y) > 0.0
         }));
+        out.wall.clear();
+        out.wall.extend(members.iter().enumerate().map(|(i, m)| {
+            if !moving(m, t) || self.phys.contacts.wall.is_none() {
+                return WallEvent::None;
+            }
+            let (p, v) = (pos(y, i), vel(y, i));
+            let Some(geo) = self
+                .phys
+                .contacts
+                .wall
+                .as_ref()
+                .and_then(|w| w.geometry(&p, m.body.radius))
+            else {
+                return WallEvent::None;
+            };
+            if m.on_wall {
+                let young = t - m.wall_onset <= 3.0 * m.wall_contact_time;
+                if young && self.wall_margin(m, i, y, WallEvent::Kink) > 0.0 {
+                    WallEvent::Kink
+                } else {
+                    WallEvent::None
+                }
+            } else if geo.gap > 0.0 && v.dot(&geo.outward) >= RAMP_MIN_SPEED {
+                WallEvent::Touch
+            } else {
+                WallEvent::None
+            }
+        }));
         out.approaching.clear();
         out.approaching.extend(pairs.iter().map(|pr| {
             let (i, j) = (pr.a as usize, pr.b as usize);
@@ -502,12 +556,11 @@ impl Ctx<'_> {
     /// Shot-shot and wall contact onsets inside the accepted step `[t0, t0 + h]` (start
     /// `y0`, end `y1`): contacts open at the start that overlap at the end. The onset
     /// time, position and velocity come from the cubic Hermite interpolant of the step,
-    /// whose gap root is found by bisection. A shot-shot touch at an impact's speed was
-    /// located before (it ends the step, so its onset is the step's end); slower ones
-    /// (a resting pile's) and wall touches let the step stand, their force being
-    /// continuous at the onset. Specimen onsets were located exactly before (they end
-    /// the step), and are only caught here if a shot entered the run overlapping the
-    /// specimen.
+    /// whose gap root is found by bisection. A shot-shot or wall touch at an impact's
+    /// speed was located before (it ends the step, so its onset is the step's end);
+    /// slower ones (a resting pile's) let the step stand, their force being continuous at
+    /// the onset. Specimen onsets were located exactly before (they end the step), and
+    /// are only caught here if a shot entered the run overlapping the specimen.
     #[allow(clippy::too_many_arguments)]
     fn record_onsets(
         &self,
@@ -1099,6 +1152,17 @@ struct Pushing {
     /// `RAMP_MIN_SPEED`): their touch ends the step (located within `1e-6 R`, weighted by
     /// `KINK_SCALE` as the kinks).
     approaching: Vec<bool>,
+    /// Per member, the nozzle-wall event that ends its step: its touch (approaching at
+    /// an impact's speed) or its kink (a young contact still pushing).
+    wall: Vec<WallEvent>,
+}
+
+/// Which nozzle-wall event a member's step may end at (see `Pushing::wall`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum WallEvent {
+    None,
+    Touch,
+    Kink,
 }
 
 /// Weight of the unloading margins among the event margins: the location stops within
