@@ -149,43 +149,15 @@ struct Phase<'a> {
     overlap: &'a dyn Fn(&[f64]) -> f64,
     /// Deepest overlap allowed (the island integrator stops the shots beyond it).
     depth_limit: f64,
-    /// Error scale of positions and relative tolerance.
-    sx: f64,
-    tol: f64,
-    kink_tol: f64,
-    h_cap: f64,
+    /// Smallest body radius (the scale of position errors and of the kink's location).
+    r_min: f64,
+    set: Settings,
+    /// Hertz duration of the contact, s, and its onset, s.
     tc: f64,
     onset: f64,
 }
 
-impl<'a> Phase<'a> {
-    /// The phase of a contact of Hertz duration `tc` that began at `onset`, for bodies
-    /// no smaller than `r_min`.
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        rhs: &'a dyn Fn(&[f64], &mut [f64]),
-        margin: &'a dyn Fn(&[f64]) -> f64,
-        overlap: &'a dyn Fn(&[f64]) -> f64,
-        depth_limit: f64,
-        r_min: f64,
-        set: Settings,
-        tc: f64,
-        onset: f64,
-    ) -> Self {
-        Phase {
-            rhs,
-            margin,
-            overlap,
-            depth_limit,
-            sx: set.tolerance * 2.0 * r_min,
-            tol: set.tolerance,
-            kink_tol: 1e-6 * r_min,
-            h_cap: tc / set.contact_steps,
-            tc,
-            onset,
-        }
-    }
-
+impl Phase<'_> {
     /// Steps `(t, y)` through the contact (`fresh`: from the touch) until the force
     /// reaches zero or `t` reaches `e`; `on_step` sees every accepted step before that.
     /// Returns whether the contact still pushes at the returned `t`; `None` if the lean
@@ -201,29 +173,31 @@ impl<'a> Phase<'a> {
         out: &mut Outcome,
         on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64; 6]),
     ) -> Option<bool> {
+        let (tol, h_cap) = (self.set.tolerance, self.tc / self.set.contact_steps);
+        let (sx, kink_tol) = (tol * 2.0 * self.r_min, 1e-6 * self.r_min);
         // A fresh contact pushes from the touch on; one in progress may be past its kink.
         let mut pushing = fresh || (self.margin)(y) > 0.0;
         let (mut y_new, mut err) = ([0.0; 6], [0.0; 6]);
         // The first step after the touch is short (the dashpot's delta^(1/4)), as in the
         // island integrator; a contact in progress starts at the contact step.
-        let mut h = if *t - self.onset < ONSET_STEP * self.h_cap {
-            ONSET_STEP * self.h_cap
+        let mut h = if *t - self.onset < ONSET_STEP * h_cap {
+            ONSET_STEP * h_cap
         } else {
-            self.h_cap
+            h_cap
         };
         dopri.resize(6);
         let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
         let error_norm = |y: &[f64], err: &[f64]| {
-            let sv = self.tol * (Vec3::new(y[3], y[4], y[5]).norm() + 1.0);
+            let sv = tol * (Vec3::new(y[3], y[4], y[5]).norm() + 1.0);
             (0..3).fold(0.0f64, |m, q| {
-                m.max(err[q].abs() / self.sx).max(err[3 + q].abs() / sv)
+                m.max(err[q].abs() / sx).max(err[3 + q].abs() / sv)
             })
         };
         while pushing && *t < e {
             if *t - self.onset > 3.0 * self.tc {
                 return None; // not an impact: let the island integrator hold it
             }
-            h = h.min(self.h_cap);
+            h = h.min(h_cap);
             let lands = *t + h >= e;
             if lands {
                 h = e - *t;
@@ -256,7 +230,7 @@ impl<'a> Phase<'a> {
                 let hi = first_crossing(
                     (0.0, (self.margin)(y).max(0.0)),
                     (h, g1),
-                    self.kink_tol,
+                    kink_tol,
                     &mut |c| {
                         out.rhs += u64::from(dopri.step(&mut f, *t, y, c, &mut y_new, &mut err));
                         out.rejected += 1;
@@ -378,7 +352,16 @@ pub fn resolve(
     };
     let overlap = |y: &[f64]| sigma - Vec3::new(y[0], y[1], y[2]).norm();
     let r_min = a.radius.min(b.radius);
-    let phase = Phase::new(&rhs, &margin, &overlap, r_eff, r_min, set, tc, onset);
+    let phase = Phase {
+        rhs: &rhs,
+        margin: &margin,
+        overlap: &overlap,
+        depth_limit: r_eff,
+        r_min,
+        set,
+        tc,
+        onset,
+    };
     let mut y = [r_from.x, r_from.y, r_from.z, v0.x, v0.y, v0.z];
     let mut t = from;
     let pushing = phase.run(
@@ -478,7 +461,16 @@ pub fn resolve_specimen(
     };
     let margin = |y: &[f64]| law.unloading_margin(k, m, r - y[2], -y[5]);
     let overlap = |y: &[f64]| r - y[2];
-    let phase = Phase::new(&rhs, &margin, &overlap, 0.5 * r, r, set, tc, onset);
+    let phase = Phase {
+        rhs: &rhs,
+        margin: &margin,
+        overlap: &overlap,
+        depth_limit: 0.5 * r,
+        r_min: r,
+        set,
+        tc,
+        onset,
+    };
     let mut y = [p_from.x, p_from.y, p_from.z, v_from.x, v_from.y, v_from.z];
     let mut t = from;
     let pushing = phase.run(
