@@ -31,7 +31,10 @@ use crate::contact::{PairContact, effective_mass};
 use crate::integrate::dopri::Dopri5;
 use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing};
 
-use super::flight::{Flight, pair_touch};
+use super::flight::{Flight, closest_approach, pair_touch};
+use crate::counters::WorkCounters;
+use crate::record::Impact;
+use crate::state::ShotState;
 
 /// One shot at the start of the chunk.
 #[derive(Debug, Clone, Copy)]
@@ -138,6 +141,71 @@ impl Outcome {
                 self.samples[i * self.n + q].1,
             )
         })
+    }
+}
+
+/// What is known of another shot's motion while a lean contact lasts: it flies free
+/// from `(clock, pos, vel)` until `until`; before `clock` (if `bounded_before`) and
+/// after `until` only that it moves no faster than `speed`. (Before `clock` without
+/// `bounded_before`: not checked, the caller knows it clear then.)
+#[derive(Debug, Clone, Copy)]
+pub struct Neighbour {
+    /// Start of its known free flight, s.
+    pub clock: f64,
+    /// Position at `clock`, m.
+    pub pos: Vec3,
+    /// Velocity at `clock`, m/s.
+    pub vel: Vec3,
+    /// End of its known free flight, s.
+    pub until: f64,
+    /// Whether it is to be checked before `clock` too (within `speed` of `pos`).
+    pub bounded_before: bool,
+    /// Speed bound outside its free flight, m/s.
+    pub speed: f64,
+    /// Contact distance to the shot checked against it, m.
+    pub sigma: f64,
+}
+
+impl Neighbour {
+    /// Whether a shot at `ours(t)` (position, velocity) over `[t0, t1]`, off that line by
+    /// at most `dev` against a free shot (`dev_line` against a fixed point), keeps at
+    /// least `sigma` from this neighbour.
+    fn clear(
+        &self,
+        flight: &Flight,
+        t0: f64,
+        t1: f64,
+        ours: &dyn Fn(f64) -> (Vec3, Vec3),
+        dev: f64,
+        dev_line: f64,
+    ) -> bool {
+        let (a, b) = (t0.max(self.clock), t1.min(self.until));
+        if a < b {
+            let (pm, vm) = ours(a);
+            let (pc, vc) = flight.at(&self.pos, &self.vel, a - self.clock);
+            if closest_approach(&(pc - pm), &(vc - vm), b - a) < self.sigma + dev {
+                return false;
+            }
+        }
+        // Outside its free flight: within `speed` of where it was last (or first) known.
+        let anchored = |from: f64, to: f64, anchor: Vec3, slack: f64| {
+            let (pm, vm) = ours(from);
+            closest_approach(&(anchor - pm), &(-vm), to - from) >= self.sigma + dev_line + slack
+        };
+        if self.bounded_before && t0 < self.clock {
+            let to = t1.min(self.clock);
+            if !anchored(t0, to, self.pos, self.speed * (self.clock - t0)) {
+                return false;
+            }
+        }
+        if t1 > self.until {
+            let from = t0.max(self.until);
+            let anchor = flight.at(&self.pos, &self.vel, self.until - self.clock).0;
+            if !anchored(from, t1, anchor, self.speed * (t1 - self.until)) {
+                return false;
+            }
+        }
+        true
     }
 }
 
@@ -263,6 +331,157 @@ impl Phase<'_> {
             };
         }
         Some(pushing)
+    }
+}
+
+impl Outcome {
+    /// Whether shot `q`'s actual path (state `start` at `s`: free flight to `from`, the
+    /// chords between the samples widened by their error bound, free flight from the
+    /// kink to `end`) keeps clear of the neighbour `nb`.
+    pub fn clear_of(
+        &self,
+        q: usize,
+        flight: &Flight,
+        s: f64,
+        start: (Vec3, Vec3),
+        nb: &Neighbour,
+    ) -> bool {
+        let g = flight.g;
+        // Free pieces: the relative motion of two free shots is straight, exactly.
+        let free = [
+            (s, start.0, start.1, self.from),
+            (self.kink, self.at_kink[q].0, self.at_kink[q].1, self.end),
+        ];
+        for (t0, p, v, t1) in free {
+            let h = t1 - t0;
+            if h > 0.0
+                && !nb.clear(
+                    flight,
+                    t0,
+                    t1,
+                    &|t| flight.at(&p, &v, t - t0),
+                    0.0,
+                    0.5 * g * h * h,
+                )
+            {
+                return false;
+            }
+        }
+        let mut prev: Option<(f64, Vec3, Vec3)> = None;
+        for (t1, p1, v1) in self.path(q) {
+            let Some((t0, p0, v0)) = prev.replace((t1, p1, v1)) else {
+                continue;
+            };
+            let h = t1 - t0;
+            if h <= 0.0 {
+                continue;
+            }
+            let dev = 0.5 * h * (v1 - v0).norm() + 0.5 * g * h * h;
+            let chord = (p1 - p0) / h;
+            if !nb.clear(
+                flight,
+                t0,
+                t1,
+                &|t| (p0 + chord * (t - t0), chord),
+                dev,
+                dev,
+            ) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// A box holding shot `q`'s actual path from `s` (state `start`) to `end`, the
+    /// chords' error bounds included.
+    pub fn path_box(&self, q: usize, g: f64, s: f64, start: (Vec3, Vec3)) -> (Vec3, Vec3) {
+        let (mut lo, mut hi) = (start.0, start.0);
+        let mut dev = 0.5 * g * (self.end - s).powi(2);
+        let mut prev: Option<(f64, Vec3)> = None;
+        for (t1, p1, v1) in self
+            .path(q)
+            .chain([(self.end, self.state[q].0, self.state[q].1)])
+        {
+            if let Some((t0, v0)) = prev.replace((t1, v1)) {
+                let h = t1 - t0;
+                dev = dev.max(0.5 * h * (v1 - v0).norm() + 0.5 * g * h * h);
+            }
+            lo = lo.inf(&p1);
+            hi = hi.sup(&p1);
+        }
+        (lo - Vec3::repeat(dev), hi + Vec3::repeat(dev))
+    }
+
+    /// Whether shot `q` of a pair (radius `r`, height `z_start` at the chunk's start)
+    /// stays clear of the specimen plane `z = 0` throughout, the chords' error bound
+    /// included.
+    pub fn above_plane(&self, q: usize, z_start: f64, r: f64, g: f64) -> bool {
+        let mut ok = [z_start, self.at_kink[q].0.z, self.state[q].0.z]
+            .into_iter()
+            .all(|z| z - r > 0.0);
+        let mut prev: Option<(f64, Vec3, Vec3)> = None;
+        for (t1, p1, v1) in self.path(q) {
+            if let Some((t0, p0, v0)) = prev.replace((t1, p1, v1)) {
+                let h = t1 - t0;
+                let dev = 0.5 * h * (v1 - v0).norm() + 0.5 * g * h * h;
+                ok &= p0.z.min(p1.z) - r > dev;
+            } else {
+                ok &= p1.z - r > 0.0;
+            }
+        }
+        ok
+    }
+
+    /// Writes this outcome into shot `q`'s state (`c`): its position and velocity at
+    /// `end`, its steps, and, for a specimen touch, its hit count and impact record
+    /// (pushed to `impacts`).
+    pub fn apply(&self, q: usize, c: &mut ShotState, impacts: &mut Vec<Impact>) {
+        if self.n == 1 {
+            if self.fresh {
+                c.specimen_onset = self.onset;
+                c.specimen_contact_time = self.contact_time;
+                c.hits += 1;
+                if c.hits == 1 {
+                    c.steps_to_first_contact = Some(c.steps);
+                }
+                impacts.push(Impact::new(
+                    c.id.0,
+                    self.onset,
+                    &self.at_onset.0,
+                    &self.at_onset.1,
+                    &c.omega,
+                    c.body.radius,
+                    c.body.mass,
+                    c.collisions,
+                    c.hits == 1,
+                ));
+            }
+            if c.hits == 1 {
+                c.first_contact_steps += self.steps;
+            }
+            c.on_specimen = self.touching;
+        } else {
+            c.collisions += u32::from(self.fresh);
+        }
+        (c.pos, c.vel) = self.state[q];
+        c.steps += self.steps;
+        c.ahead = None;
+    }
+
+    /// Adds this outcome's work to `w`.
+    pub fn count(&self, w: &mut WorkCounters) {
+        w.steps_accepted += self.steps;
+        w.steps_rejected += self.rejected;
+        w.shot_steps += self.n as u64 * self.steps;
+        w.rhs_evaluations += self.rhs;
+        if self.n == 2 {
+            w.pair_contact_checks += self.rhs;
+        } else {
+            w.specimen_contact_checks += self.rhs;
+            w.gravity_calls += self.rhs;
+        }
+        w.contact_onsets += u64::from(self.fresh);
+        w.lean_contacts += u64::from(self.fresh);
     }
 }
 
@@ -536,6 +755,53 @@ mod tests {
             &mut d,
         )
         .expect("a clean binary contact")
+    }
+
+    /// A neighbour known to fly free is checked against the actual paths exactly; one
+    /// known only at a moment is kept at the distance it could cover at the speed bound
+    /// (before that moment with `bounded_before`, after its free flight ends).
+    #[test]
+    fn neighbours_are_clear_only_beyond_what_they_can_reach() {
+        let l = law(0.9);
+        let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
+        let b = shot(Vec3::new(0.0, 0.0, 6e-3), Vec3::new(0.0, 0.0, -70.0));
+        let flight = Flight { g: 9.81 };
+        let o = run(&l, &a, &b, 9.81, 1e-8);
+        let span = o.end;
+        // 0.9 mm beside the meeting point (contact distance 0.8 mm).
+        let beside = |until: f64, before: bool, speed: f64| Neighbour {
+            clock: 0.5 * o.onset,
+            pos: Vec3::new(0.9e-3, 0.0, 5e-3 + 49.0 * o.onset),
+            vel: Vec3::new(0.0, 0.0, -9.81 * 0.5 * o.onset),
+            until,
+            bounded_before: before,
+            speed,
+            sigma: 0.8e-3,
+        };
+        let clear = |nb: &Neighbour| {
+            (0..2).all(|q| {
+                let start = if q == 0 {
+                    (a.pos, a.vel)
+                } else {
+                    (b.pos, b.vel)
+                };
+                o.clear_of(q, &flight, 0.0, start, nb)
+            })
+        };
+        assert!(clear(&beside(f64::INFINITY, false, 1e3)));
+        // Known until the touch only: 150 m/s over the rest of the contact reaches the
+        // pair, 20 m/s does not.
+        let reach = |v: f64| v * (span - o.onset);
+        assert!(reach(150.0) > 0.1e-3 && reach(20.0) < 0.1e-3);
+        assert!(!clear(&beside(o.onset, false, 150.0)));
+        assert!(clear(&beside(o.onset, false, 20.0)));
+        // Known from the middle of the approach on only, checked before it too.
+        assert!(!clear(&beside(f64::INFINITY, true, 1e3)));
+        assert!(clear(&beside(f64::INFINITY, true, 1.0)));
+        // Closer than contact distance on its free path: not clear whatever the bound.
+        let mut close = beside(f64::INFINITY, false, 0.0);
+        close.pos.x = 0.79e-3;
+        assert!(!clear(&close));
     }
 
     /// Head-on: the relative speed comes back times the restitution, momentum is kept,

@@ -35,6 +35,10 @@
 //! * a contact found overlapping when its cluster starts is counted in `late_contacts`
 //!   (reported in summary.json: about 1 in 2,000 contacts on the 10,000-shot pack).
 //!
+//! A touch whose contact nobody else can come near while it lasts (one frictionless
+//! contact: two shots, or a shot and the specimen) is resolved at its event on the lean
+//! path without opening a cluster (lone.rs); the rest open clusters as above.
+//!
 //! A member gathered for safety that ends up touching nothing (no pair in its chunk, the
 //! specimen out of reach) is not integrated at all: it keeps its free path, its clock
 //! and its pending events. A group with a single frictionless contact (two shots, or a
@@ -51,6 +55,7 @@
 pub mod binary;
 pub mod flight;
 pub mod grid;
+mod lone;
 pub mod queue;
 
 use crate::Vec3;
@@ -60,7 +65,6 @@ use crate::integrate::dopri::Dopri5;
 use crate::integrate::island::{
     self, IslandOutput, IslandPair, MIN_CONTACT_SPEED, Method, Physics, Scratch,
 };
-use crate::record::Impact;
 use crate::state::{ShotState, ShotStatus};
 use flight::{Flight, closest_approach, pair_touch};
 use grid::Grid;
@@ -172,6 +176,46 @@ struct Cluster {
     gen_: u32,
 }
 
+/// A free shot's earliest pending touch (`with`: the other shot, or itself for the
+/// specimen) and its earliest pending touch with anybody else. Both are lower bounds:
+/// touches predicted with shots whose paths changed since stay counted.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    t: f64,
+    with: u32,
+    t_other: f64,
+}
+
+impl Pending {
+    const NONE: Pending = Pending {
+        t: f64::INFINITY,
+        with: NONE,
+        t_other: f64::INFINITY,
+    };
+
+    fn note(&mut self, t: f64, with: usize) {
+        let with = with as u32;
+        if with == self.with {
+            self.t = self.t.min(t);
+        } else if t < self.t {
+            self.t_other = self.t;
+            self.t = t;
+            self.with = with;
+        } else {
+            self.t_other = self.t_other.min(t);
+        }
+    }
+
+    /// Earliest pending touch with anybody but `who`.
+    fn without(&self, who: &[usize]) -> f64 {
+        if who.iter().any(|&i| i as u32 == self.with) {
+            self.t_other
+        } else {
+            self.t
+        }
+    }
+}
+
 /// The root (smallest node) of each of `n` nodes' connected group under `edges`.
 fn group_roots(n: usize, edges: impl Iterator<Item = (usize, usize)>) -> Vec<usize> {
     fn root(p: &mut [usize], mut x: usize) -> usize {
@@ -224,8 +268,8 @@ struct Engine<'a> {
     owner: Vec<u32>,
     /// Entered, active and in the grid.
     present: Vec<bool>,
-    /// Earliest pending event that changes the shot's path (touch), s.
-    next_change: Vec<f64>,
+    /// Earliest pending events that change the shot's path (touches).
+    next_change: Vec<Pending>,
     /// Membership stamps for cluster gathering.
     mark: Vec<u64>,
     /// A member's index in the cluster being integrated.
@@ -305,7 +349,7 @@ impl<'a> Engine<'a> {
             ver: vec![0; n],
             owner: vec![NONE; n],
             present: vec![false; n],
-            next_change: vec![f64::INFINITY; n],
+            next_change: vec![Pending::NONE; n],
             mark: vec![0; n],
             local: vec![0; n],
             stamp: 0,
@@ -455,7 +499,7 @@ impl<'a> Engine<'a> {
 
     /// Predicts every event of free shot `i` from its reference state.
     fn predict(&mut self, i: usize) {
-        self.next_change[i] = f64::INFINITY;
+        self.next_change[i] = Pending::NONE;
         let mut nb = std::mem::take(&mut self.buf);
         nb.clear();
         self.grid.for_each_near(self.grid.at[i], |j| nb.push(j));
@@ -472,7 +516,7 @@ impl<'a> Engine<'a> {
             && t + tau <= self.end
         {
             self.push(t + tau, Kind::Floor, i, i);
-            self.next_change[i] = self.next_change[i].min(t + tau);
+            self.next_change[i].note(t + tau, i);
         }
         let d = self.phys.domain;
         let leave = [
@@ -507,8 +551,8 @@ impl<'a> Engine<'a> {
             if t <= self.end {
                 let (a, b) = (i.min(j), i.max(j));
                 self.push(t, Kind::Touch, a, b);
-                self.next_change[i] = self.next_change[i].min(t);
-                self.next_change[j] = self.next_change[j].min(t);
+                self.next_change[i].note(t, j);
+                self.next_change[j].note(t, i);
             }
         }
     }
@@ -583,6 +627,9 @@ impl<'a> Engine<'a> {
     /// Opens a cluster for a touch predicted at `t_on` between the free shots `who` (one
     /// shot: the specimen), starting one contact step before it.
     fn start_cluster(&mut self, who: &[usize], t_on: f64) {
+        if self.lone_contact(who, t_on) {
+            return;
+        }
         let tc = self.contact_time(who, t_on);
         let back = tc / self.phys.contact_steps;
         let s = who
@@ -717,7 +764,7 @@ impl<'a> Engine<'a> {
                         continue;
                     }
                     let dmin = closest_approach(&dx, &dv, e - t_a);
-                    let nc = self.next_change[c];
+                    let nc = self.next_change[c].t;
                     if nc >= self.t_now
                         && nc < e
                         && dmin < sigma * (1.0 + SLACK) + 2.0 * vb * (e - nc)
@@ -964,38 +1011,7 @@ impl<'a> Engine<'a> {
             if let Some((lean, o)) = self.try_lean(grp, &group_pairs[g], &copies, cl, s, e) {
                 let shots = &lean[..o.n];
                 for (q, &k) in shots.iter().enumerate() {
-                    let c = &mut copies[k];
-                    if o.n == 1 {
-                        if o.fresh {
-                            c.on_specimen = true;
-                            c.specimen_onset = o.onset;
-                            c.specimen_contact_time = o.contact_time;
-                            c.hits += 1;
-                            if c.hits == 1 {
-                                c.steps_to_first_contact = Some(c.steps);
-                            }
-                            out.impacts.push(Impact::new(
-                                c.id.0,
-                                o.onset,
-                                &o.at_onset.0,
-                                &o.at_onset.1,
-                                &c.omega,
-                                c.body.radius,
-                                c.body.mass,
-                                c.collisions,
-                                c.hits == 1,
-                            ));
-                        }
-                        if c.hits == 1 {
-                            c.first_contact_steps += o.steps;
-                        }
-                        c.on_specimen = o.touching;
-                    } else {
-                        c.collisions += u32::from(o.fresh);
-                    }
-                    (c.pos, c.vel) = o.state[q];
-                    c.steps += o.steps;
-                    c.ahead = None;
+                    o.apply(q, &mut copies[k], &mut out.impacts);
                     t_end[k] = o.end;
                     paths[k] = o.path(q).map(|(t, p, _)| (t, p)).collect();
                     paths[k].push((o.end, o.state[q].0));
@@ -1020,19 +1036,7 @@ impl<'a> Engine<'a> {
                     }
                 }
                 v_seen = v_seen.max(o.v_max2);
-                let w = &mut out.work;
-                w.steps_accepted += o.steps;
-                w.steps_rejected += o.rejected;
-                w.shot_steps += o.n as u64 * o.steps;
-                w.rhs_evaluations += o.rhs;
-                if o.n == 2 {
-                    w.pair_contact_checks += o.rhs;
-                } else {
-                    w.specimen_contact_checks += o.rhs;
-                    w.gravity_calls += o.rhs;
-                }
-                w.contact_onsets += u64::from(o.fresh);
-                w.lean_contacts += u64::from(o.fresh);
+                o.count(&mut out.work);
                 continue;
             }
             sub.clear();
@@ -1286,50 +1290,26 @@ impl<'a> Engine<'a> {
         // between the contact's samples (off the path by at most half a step times the
         // step's change of velocity), free flight from the kink to `end`. After `end`
         // the scheduler predicts the handed-back shots' touches as for any free shot.
-        let g = self.flight.g;
         let specimen = c.specimen.is_some() && n == 2;
         for q in 0..n {
             let m = &copies[lean[q]];
             let r = m.body.radius;
-            let path: Vec<(f64, Vec3, Vec3)> = o.path(q).collect();
-            let mut ok = !specimen
-                || [m.pos.z, path[0].1.z, o.at_kink[q].0.z, o.state[q].0.z]
-                    .into_iter()
-                    .all(|z| z - r > 0.0);
-            for w in path.windows(2) {
-                let ((t0, p0, v0), (t1, p1, v1)) = (w[0], w[1]);
-                let h = t1 - t0;
-                let dev = 0.5 * h * (v1 - v0).norm() + 0.5 * g * h * h;
-                ok &= !specimen || p0.z.min(p1.z) - r > dev;
-                let chord = (p1 - p0) / h.max(f64::MIN_POSITIVE);
-                for &k in grp.iter().filter(|&&k| !in_lean(k)) {
-                    let ta = t0.max(clock(k));
-                    if ta >= t1 {
-                        continue;
-                    }
-                    let (pc, vc) = at(k, ta);
-                    let p = p0 + chord * (ta - t0);
-                    let sigma = copies[k].body.radius + r;
-                    ok &= closest_approach(&(pc - p), &(vc - chord), t1 - ta) >= sigma + dev;
-                }
+            if specimen && !o.above_plane(q, m.pos.z, r, self.flight.g) {
+                return None;
             }
             for &k in grp.iter().filter(|&&k| !in_lean(k)) {
-                let sigma = copies[k].body.radius + r;
-                for (t0, p, v, t1) in [
-                    (s, m.pos, m.vel, o.from),
-                    (o.kink, o.at_kink[q].0, o.at_kink[q].1, o.end),
-                ] {
-                    let ta = t0.max(clock(k));
-                    if ta >= t1 {
-                        continue;
-                    }
-                    let (pm, vm) = flight.at(&p, &v, ta - t0);
-                    let (pc, vc) = at(k, ta);
-                    ok &= closest_approach(&(pc - pm), &(vc - vm), t1 - ta) >= sigma;
+                let nb = binary::Neighbour {
+                    clock: clock(k),
+                    pos: copies[k].pos,
+                    vel: copies[k].vel,
+                    until: f64::INFINITY,
+                    bounded_before: false,
+                    speed: 0.0,
+                    sigma: copies[k].body.radius + r,
+                };
+                if !o.clear_of(q, &flight, s, (m.pos, m.vel), &nb) {
+                    return None;
                 }
-            }
-            if !ok {
-                return None;
             }
         }
         Some((lean, o))
@@ -1451,7 +1431,11 @@ impl<'a> Engine<'a> {
                 }
                 let m = members[k];
                 self.owner[m] = gs as u32;
-                self.next_change[m] = e;
+                self.next_change[m] = Pending {
+                    t: e,
+                    with: m as u32,
+                    t_other: e,
+                };
                 let c = self.clusters[gs].get_or_insert_with(|| Cluster {
                     members: Vec::new(),
                     pairs: HashMap::default(),
