@@ -295,3 +295,63 @@ fn the_lean_contact_path_matches_the_island_integrator() {
     assert!(l.3 > 0.5 * l.1, "lean contacts {} of {}", l.3, l.1);
     assert_eq!(i.3, 0.0);
 }
+
+/// A third shot that reaches a pair while the pair's contact lasts makes it a three-body
+/// contact: the event scheduler must not resolve the pair alone (events/lone.rs) but
+/// integrate the three together, and end where the island integrator alone does (1e-6 of
+/// the fastest speed at tolerance 1e-10). Arriving 2 us later, after the pair has
+/// parted, it meets shot 0 flying off: two lone contacts.
+#[test]
+fn a_shot_arriving_during_a_contact_makes_it_a_three_body_contact() {
+    let d = 0.8e-3;
+    // Shots 0 and 1 touch at 45.71 us, shot 0 then at x = 1.371 mm; shot 2 comes down y
+    // at 50 m/s to reach shot 0 `late` after that touch.
+    let run_with = |late: f64, lean: bool| {
+        let t_touch = 3.2e-3 / 70.0;
+        let y0 = d + 50.0 * (t_touch + late);
+        let shots = vec![
+            shot(0, d, Vec3::new(0.0, 0.0, 0.01), Vec3::new(30.0, 0.0, 0.0)),
+            shot(
+                1,
+                d,
+                Vec3::new(0.004, 0.0, 0.01),
+                Vec3::new(-40.0, 0.0, 0.0),
+            ),
+            shot(
+                2,
+                d,
+                Vec3::new(30.0 * t_touch, y0, 0.01),
+                Vec3::new(0.0, -50.0, 0.0),
+            ),
+        ];
+        let mut phys = contact_physics(None, Some(0.9));
+        phys.tolerance = 1e-10;
+        Simulation::from_parts(phys, shots, 3e-4)
+            .with_scheduler(Scheduler::Events)
+            .with_lean_contacts(lean)
+            .run(&|_| {})
+    };
+    for (late, lone) in [(0.3e-6, false), (2e-6, true)] {
+        let (lean, island) = (run_with(late, true), run_with(late, false));
+        assert_eq!(lean.work.contact_onsets, island.work.contact_onsets);
+        for (a, b) in lean.shots.iter().zip(&island.shots) {
+            assert!(
+                (a.vel - b.vel).norm() < 1e-6 * 50.0,
+                "{:?} vs {:?}",
+                a.vel,
+                b.vel
+            );
+        }
+        eprintln!(
+            "late {late:e}: {} contacts, {} lean",
+            lean.work.contact_onsets, lean.work.lean_contacts
+        );
+        assert_eq!(lean.work.contact_onsets, 2);
+        if lone {
+            assert_eq!(lean.work.lean_contacts, 2);
+        } else {
+            assert!(lean.work.lean_contacts < lean.work.contact_onsets);
+            assert!(lean.shots[2].collisions >= 1);
+        }
+    }
+}
