@@ -10,7 +10,8 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
   --liggghts  LIGGGHTS 3.8 (Debian `liggghts`) on shared/bench/liggghts/{stream,dense}.in
               and peenflow on the same scenes, wall-time ratios, and the accuracy check
               (peenflow's default tolerance must give at least the impact-speed accuracy of
-              a fixed 20 ns step, LIGGGHTS' step for these shots)
+              a fixed 20 ns step, LIGGGHTS' step for these shots); the stream scenes
+              are run three times each and the fastest run counts
 
 The machine is shared and noisy: compare ratios measured in one session.
 """
@@ -118,6 +119,9 @@ def effects(tmp):
     print(f"| (none; friction switched on, mu 0.3 / 0.2 / 0.2) | {walls[2]:.4f} | {steps:,} | spin integrated |")
 
 
+REPEATS = 3
+
+
 def liggghts_loop_times(log):
     return [float(m.group(1)) for m in re.finditer(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)]
 
@@ -128,23 +132,29 @@ def liggghts(tmp):
     inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
     for f in ("stream.in", "dense.in"):
         shutil.copy(os.path.join(inputs, f), tmp)
+    # The machine is shared and noisy: the stream scenes (a few seconds each) are run
+    # REPEATS times and the fastest run counts, for LIGGGHTS and peenflow alike.
     results = {}
-    for name, args, timed in [
-        ("stream", ["-in", "stream.in", "-var", "N", "10000"], 1),
-        ("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2),
+    for name, args, timed, repeats in [
+        ("stream", ["-in", "stream.in", "-var", "N", "10000"], 1, REPEATS),
+        ("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2, 1),
     ]:
-        run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
-        loops = liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())
-        results[name] = sum(loops[-timed:])
+        best = float("inf")
+        for _ in range(repeats):
+            run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
+            loops = liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())
+            best = min(best, sum(loops[-timed:]))
+        results[name] = best
     # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
     # (tolerance 1e-6), and at LIGGGHTS' accuracy (tolerance 1e-4), checked below on
     # head-on and oblique shot-shot collisions and on a shot-specimen impact.
     matched = "[integrator]\ntolerance = 1e-4\n"
-    ps = peenflow(os.path.join(SCENES, "pack_stream_10k.toml"), 1, tmp, "ps")
+    fastest = lambda scene, tag: min((peenflow(scene, 1, tmp, tag) for _ in range(REPEATS)), key=lambda r: r["wall"])
+    ps = fastest(os.path.join(SCENES, "pack_stream_10k.toml"), "ps")
     text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
     fast_scene = os.path.join(tmp, "pack_matched.toml")
     open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
-    ps_fast = peenflow(fast_scene, 1, tmp, "ps_fast")
+    ps_fast = fastest(fast_scene, "ps_fast")
     win_scene = os.path.join(tmp, "pack_windows.toml")
     open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
     ps_win = peenflow(win_scene, 1, tmp, "ps_win")
