@@ -226,8 +226,9 @@ struct Phase<'a> {
 }
 
 impl Phase<'_> {
-    /// Steps `(t, y)` through the contact (`fresh`: from the touch) until the force
-    /// reaches zero or `t` reaches `e`; `on_step` sees every accepted step before that.
+    /// Steps `(t, y)` through the contact (`pushes`: it pushes from the start: a fresh
+    /// touch, or one in progress at or short of the touching distance and closing) until
+    /// the force reaches zero or `t` reaches `e`; `on_step` sees every accepted step before that.
     /// Returns whether the contact still pushes at the returned `t`; `None` if the lean
     /// path does not apply (too deep, too long, a collapsing step).
     #[allow(clippy::too_many_arguments)]
@@ -236,7 +237,7 @@ impl Phase<'_> {
         y: &mut [f64; 6],
         t: &mut f64,
         e: f64,
-        fresh: bool,
+        pushes: bool,
         dopri: &mut Dopri5,
         out: &mut Outcome,
         on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64; 6]),
@@ -244,7 +245,7 @@ impl Phase<'_> {
         let (tol, h_cap) = (self.set.tolerance, self.tc / self.set.contact_steps);
         let (sx, kink_tol) = (tol * 2.0 * self.r_min, 1e-6 * self.r_min);
         // A fresh contact pushes from the touch on; one in progress may be past its kink.
-        let mut pushing = fresh || (self.margin)(y) > 0.0;
+        let mut pushing = pushes || (self.margin)(y) > 0.0;
         let (mut y_new, mut err) = ([0.0; 6], [0.0; 6]);
         // The first step after the touch is short (the dashpot's delta^(1/4)), as in the
         // island integrator; a contact in progress starts at the contact step.
@@ -583,11 +584,14 @@ pub fn resolve(
     };
     let mut y = [r_from.x, r_from.y, r_from.z, v0.x, v0.y, v0.z];
     let mut t = from;
+    // A contact handed on at its touch (rounding may leave the shots a hair apart) still
+    // has all of its loading ahead.
+    let at_touch = r_from.norm() >= sigma && v0.dot(&r_from) < 0.0;
     let pushing = phase.run(
         &mut y,
         &mut t,
         e,
-        progress.is_none(),
+        progress.is_none() || at_touch,
         dopri,
         &mut out,
         &mut |out, t, y| {
@@ -692,11 +696,12 @@ pub fn resolve_specimen(
     };
     let mut y = [p_from.x, p_from.y, p_from.z, v_from.x, v_from.y, v_from.z];
     let mut t = from;
+    let at_touch = p_from.z >= r && v_from.z < 0.0;
     let pushing = phase.run(
         &mut y,
         &mut t,
         e,
-        progress.is_none(),
+        progress.is_none() || at_touch,
         dopri,
         &mut out,
         &mut |out, t, y| out.sample(t, &[vecs(y)]),
@@ -914,6 +919,69 @@ mod tests {
         assert!(!second.fresh && !second.touching);
         assert!((second.state[0].1.z - v.z).abs() < 1e-6 * 70.0);
         assert!((second.end - o.end).abs() < 1e-3 * o.contact_time);
+    }
+
+    /// A contact handed on at its touch, its shots a hair apart by rounding and closing,
+    /// still has all of its loading ahead: it rebounds with the restitution (it was once
+    /// released at once, closing, and handed back overlapping), for a pair and for the
+    /// specimen.
+    #[test]
+    fn a_contact_continued_at_its_touch_still_loads() {
+        let set = Settings {
+            tolerance: 1e-8,
+            contact_steps: 10.0,
+        };
+        let flight = Flight { g: 9.81 };
+        let mut d = Dopri5::new(6);
+        let progress = InProgress {
+            onset: 0.0,
+            contact_time: 1e-6,
+        };
+        let hair = 1e-12;
+        let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
+        let b = shot(
+            Vec3::new(0.0, 0.0, 5e-3 + 0.8e-3 + hair),
+            Vec3::new(0.0, 0.0, -70.0),
+        );
+        let o = resolve(
+            &law(0.9),
+            &flight,
+            &a,
+            &b,
+            Some(progress),
+            0.0,
+            1e-4,
+            0.0,
+            set,
+            &mut d,
+        )
+        .expect("a contact in progress");
+        let [(pa, va), (pb, vb)] = o.state;
+        assert!(!o.touching && (pb - pa).norm() > 0.8e-3);
+        assert!(
+            ((vb.z - va.z) / 119.0 - 0.9).abs() < 1e-5,
+            "{}",
+            (vb.z - va.z) / 119.0
+        );
+        let c = shot(
+            Vec3::new(0.0, 0.0, 0.4e-3 + hair),
+            Vec3::new(0.0, 0.0, -70.0),
+        );
+        let o = resolve_specimen(
+            &law(0.7),
+            &flight,
+            &c,
+            Some(progress),
+            0.0,
+            1e-4,
+            0.0,
+            set,
+            &mut d,
+        )
+        .expect("a contact in progress");
+        let (p, v) = o.state[0];
+        assert!(!o.touching && p.z > 0.4e-3);
+        assert!((v.z / 70.0 - 0.7).abs() < 1e-5, "{}", v.z / 70.0);
     }
 
     /// A contact that does not end inside the chunk is handed back still touching.
