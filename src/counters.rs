@@ -54,6 +54,9 @@ pub struct WorkCounters {
     /// specimen) resolved in closed form and a two-body frame instead of as an island
     /// (`events/binary.rs`).
     pub lean_contacts: u64,
+    /// Event scheduler: contacts in progress continued on the lean path when all that a
+    /// cluster still held was that contact (`events/lone.rs`).
+    pub lean_continuations: u64,
 }
 
 impl WorkCounters {
@@ -80,5 +83,6 @@ impl WorkCounters {
         self.cluster_redos += other.cluster_redos;
         self.late_contacts += other.late_contacts;
         self.lean_contacts += other.lean_contacts;
+        self.lean_continuations += other.lean_continuations;
     }
 }

@@ -11,7 +11,7 @@ use common::*;
 use peenflow::Vec3;
 use peenflow::integrate::Physics;
 use peenflow::scene::Scene;
-use peenflow::sim::Simulation;
+use peenflow::sim::{RunOutput, Simulation};
 use peenflow::state::ShotState;
 use proptest::prelude::*;
 
@@ -31,6 +31,75 @@ struct Encounter {
     /// Run on the window scheduler (island integrator) instead of the automatic choice
     /// (the event scheduler here, with its lean contact path).
     windows: bool,
+}
+
+/// The encounter run by the event scheduler at tolerance 1e-10, with and without the
+/// lean contact path.
+fn lean_and_island(enc: &Encounter, shots: &[ShotState]) -> (RunOutput, RunOutput) {
+    let run = |lean: bool| {
+        Simulation::from_parts(physics(enc, 1e-10), shots.to_vec(), 2e-4)
+            .with_scheduler(peenflow::sim::Scheduler::Events)
+            .with_lean_contacts(lean)
+            .run(&|_| {})
+    };
+    (run(true), run(false))
+}
+
+/// An encounter (found by the property test below) in which the event scheduler opens a
+/// cluster for the first contact and then, with one contact left in progress, continues
+/// it on the lean path (events/lone.rs): it ends where the island integrator alone does.
+#[test]
+fn a_contact_continued_on_the_lean_path_ends_where_the_island_does() {
+    let enc = Encounter {
+        shots: vec![
+            (
+                0.001232232658049409,
+                [
+                    -0.0006404326395929964,
+                    0.0011181327594273576,
+                    0.0014257769801463266,
+                ],
+                [-1.6016597768266068, 62.01154536652645, -51.094552564601955],
+            ),
+            (
+                0.0011337181158482435,
+                [
+                    0.0011561515872488067,
+                    -0.00020190694941627407,
+                    -3.506312007976868e-5,
+                ],
+                [-138.18357879660607, 53.19817503971771, 91.84728696982621],
+            ),
+            (
+                0.000987829244861244,
+                [
+                    -0.0003790814287643951,
+                    0.0011028488354352082,
+                    4.253376772842597e-5,
+                ],
+                [15.741751469683834, -123.05456002891664, 101.33955764683643],
+            ),
+        ],
+        e_pair: 0.39942351367964196,
+        e_wall: 0.05941374871800544,
+        with_specimen: false,
+        windows: false,
+    };
+    let shots = place(&enc);
+    let (lean, island) = lean_and_island(&enc, &shots);
+    assert!(lean.work.lean_continuations >= 1 && lean.work.clusters >= 1);
+    assert_eq!(island.work.lean_continuations, 0);
+    assert_eq!(lean.work.contact_onsets, island.work.contact_onsets);
+    let v_max = shots.iter().map(|s| s.vel.norm()).fold(1.0, f64::max);
+    for (a, b) in lean.shots.iter().zip(&island.shots) {
+        assert!(
+            (a.vel - b.vel).norm() <= 1e-6 * v_max,
+            "{:?} vs {:?}",
+            a.vel,
+            b.vel
+        );
+        assert!((a.pos - b.pos).norm() <= 1e-9, "{:?} vs {:?}", a.pos, b.pos);
+    }
 }
 
 fn encounter() -> impl Strategy<Value = Encounter> {
@@ -98,13 +167,7 @@ proptest! {
             }
         }
         let v_max = shots.iter().map(|s| s.vel.norm()).fold(1.0, f64::max);
-        let run = |lean: bool| {
-            Simulation::from_parts(physics(&enc, 1e-10), shots.clone(), 2e-4)
-                .with_scheduler(peenflow::sim::Scheduler::Events)
-                .with_lean_contacts(lean)
-                .run(&|_| {})
-        };
-        let (lean, island) = (run(true), run(false));
+        let (lean, island) = lean_and_island(&enc, &shots);
         prop_assert_eq!(lean.impacts.len(), island.impacts.len());
         prop_assert_eq!(lean.work.contact_onsets, island.work.contact_onsets);
         for (a, b) in lean.shots.iter().zip(&island.shots) {

@@ -11,26 +11,21 @@
 //! * a pair stays clear of the specimen; the shots end inside the domain.
 //!
 //! Otherwise nothing is changed and the touch opens a cluster (mod.rs), which handles
-//! every case. The cluster's gathering, copies, pair lists, verification and commit are
+//! every case. A cluster whose chunk ends with nothing held but one contact in progress
+//! (two shots, or one on the specimen) is continued the same way, from the chunk's end
+//! until the shots part, before another chunk is gathered (`lean_continuations`). The cluster's gathering, copies, pair lists, verification and commit are
 //! what a stream's contacts cost most; a lone contact pays for the lean path's steps and
 //! one neighbour scan per shot.
 
-use super::binary::{self, Body, Neighbour, Settings};
-use super::{Engine, NONE};
+use super::binary::{self, Body, InProgress, Neighbour, Settings};
+use super::{Cluster, Engine, NONE};
 use crate::Vec3;
 
 impl Engine<'_> {
     /// Resolves the touch of free shots `who` (one shot: the specimen) predicted at
     /// `t_on` if it is lone (module docs); returns whether it did. Nothing changes if not.
     pub(super) fn lone_contact(&mut self, who: &[usize], t_on: f64) -> bool {
-        let c = &self.phys.contacts;
-        if !self.lean || c.friction.is_some() || c.wall.is_some() {
-            return false;
-        }
-        if !who
-            .iter()
-            .all(|&i| self.shots[i].is_active() && !self.shots[i].on_specimen)
-        {
+        if !self.lone_applies(who) {
             return false;
         }
         let tc = self.contact_time(who, t_on);
@@ -39,6 +34,63 @@ impl Engine<'_> {
             .map(|&i| self.t_ref[i])
             .fold(t_on - tc / self.phys.contact_steps, f64::max);
         if s >= t_on {
+            return false;
+        }
+        self.lone(who, s, (t_on + 4.0 * tc).min(self.end), None)
+    }
+
+    /// Continues cluster `cl` (taken out of its slot) if all it holds is one contact in
+    /// progress between its shots (two shots, or one on the specimen) and that contact is
+    /// lone until the shots part; returns whether it did (the cluster is then over and
+    /// its shots fly free). Nothing changes if not.
+    pub(super) fn lone_continuation(&mut self, cl: &Cluster) -> bool {
+        let who = &cl.members[..];
+        if !self.lone_applies(who) || who.iter().any(|&i| self.t_ref[i] != cl.clock) {
+            return false;
+        }
+        let progress = match who {
+            [a, b] => {
+                let key = (self.shots[*a].id.0, self.shots[*b].id.0);
+                let key = (key.0.min(key.1), key.0.max(key.1));
+                match (cl.pairs.len(), cl.pairs.get(&key)) {
+                    (1, Some(p)) if !self.shots[*a].on_specimen && !self.shots[*b].on_specimen => {
+                        InProgress {
+                            onset: p.onset,
+                            contact_time: p.contact_time,
+                        }
+                    }
+                    _ => return false,
+                }
+            }
+            [a] if cl.pairs.is_empty() && self.shots[*a].on_specimen => InProgress {
+                onset: self.shots[*a].specimen_onset,
+                contact_time: self.shots[*a].specimen_contact_time,
+            },
+            _ => return false,
+        };
+        let e = (progress.onset + 4.0 * progress.contact_time).min(self.end);
+        let done = e > cl.clock && self.lone(who, cl.clock, e, Some(progress));
+        self.out.work.lean_continuations += u64::from(done);
+        done
+    }
+
+    /// Whether shots `who` can take the lean path at all.
+    fn lone_applies(&self, who: &[usize]) -> bool {
+        let c = &self.phys.contacts;
+        self.lean
+            && c.friction.is_none()
+            && c.wall.is_none()
+            && who
+                .iter()
+                .all(|&i| self.shots[i].is_active() && !self.shots[i].on_wall)
+    }
+
+    /// The lean path for shots `who` from `s` (their states there) until they part (at
+    /// the latest `e`), fresh (`progress` `None`: the touch comes first) or a contact in
+    /// progress; commits and returns `true` if nobody else can come near it (module docs).
+    fn lone(&mut self, who: &[usize], s: f64, e: f64, progress: Option<InProgress>) -> bool {
+        let c = &self.phys.contacts;
+        if progress.is_none() && who.iter().any(|&i| self.shots[i].on_specimen) {
             return false;
         }
         let body = |i: usize| {
@@ -55,8 +107,6 @@ impl Engine<'_> {
             tolerance: self.phys.tolerance,
             contact_steps: self.phys.contact_steps,
         };
-        // Long enough for any lean contact (it gives up beyond three Hertz times).
-        let e = (t_on + 4.0 * tc).min(self.end);
         let starts: Vec<Body> = who.iter().map(|&i| body(i)).collect();
         let o = match who {
             [_, _] => binary::resolve(
@@ -67,7 +117,7 @@ impl Engine<'_> {
                 &self.flight,
                 &starts[0],
                 &starts[1],
-                None,
+                progress,
                 s,
                 e,
                 s,
@@ -81,7 +131,7 @@ impl Engine<'_> {
                     .law,
                 &self.flight,
                 &starts[0],
-                None,
+                progress,
                 s,
                 e,
                 s,
@@ -112,7 +162,7 @@ impl Engine<'_> {
                 break;
             }
             let (box_lo, box_hi) = o.path_box(q, self.flight.g, s, (start.pos, start.vel));
-            let reach = start.radius + self.r_max + 2.0 * vb * span + vb * 4.0 * tc;
+            let reach = start.radius + self.r_max + 2.0 * vb * span + vb * 4.0 * o.contact_time;
             found.clear();
             self.grid
                 .for_each_within(&start.pos, reach, |k| found.push(k));
@@ -168,6 +218,7 @@ impl Engine<'_> {
         // Hand the shots back, free from the moment they part.
         for (q, &m) in who.iter().enumerate() {
             o.apply(q, &mut self.shots[m], &mut self.out.impacts);
+            self.owner[m] = NONE;
             self.t_ref[m] = o.end;
             self.ver[m] += 1;
             self.v_max = self.v_max.max(self.shots[m].vel.norm());

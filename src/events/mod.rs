@@ -37,7 +37,9 @@
 //!
 //! A touch whose contact nobody else can come near while it lasts (one frictionless
 //! contact: two shots, or a shot and the specimen) is resolved at its event on the lean
-//! path without opening a cluster (lone.rs); the rest open clusters as above.
+//! path without opening a cluster (lone.rs); the rest open clusters as above. A cluster
+//! left holding one contact in progress continues it the same way when nobody else can
+//! come near.
 //!
 //! A member gathered for safety that ends up touching nothing (no pair in its chunk, the
 //! specimen out of reach) is not integrated at all: it keeps its free path, its clock
@@ -702,9 +704,14 @@ impl<'a> Engine<'a> {
     /// Integrates cluster `slot` over its next chunk (see the module docs), then either
     /// continues it or hands its shots back to free flight.
     fn resolve(&mut self, slot: usize) {
-        let mut cl = self.clusters[slot]
+        let cl = self.clusters[slot]
             .take()
             .expect("BUG: resolving an empty cluster slot");
+        if cl.chunks > 0 && self.lone_continuation(&cl) {
+            self.free_slots.push(slot);
+            return;
+        }
+        let mut cl = cl;
         self.out.work.clusters += 1;
         let s = cl.clock;
         let growth = 2f64.powi(cl.chunks.min(30) as i32);
