@@ -109,6 +109,16 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// An empty outcome for `n` shots with room for a typical contact's samples.
+    fn with_room(n: usize) -> Self {
+        const SAMPLES: usize = 32;
+        Outcome {
+            times: Vec::with_capacity(SAMPLES),
+            samples: Vec::with_capacity(SAMPLES * n),
+            ..Outcome::default()
+        }
+    }
+
     fn sample(&mut self, t: f64, st: &[(Vec3, Vec3)]) {
         self.times.push(t);
         for x in st {
@@ -545,7 +555,7 @@ pub fn resolve(
         fresh: progress.is_none(),
         contact_time: tc,
         from,
-        ..Outcome::default()
+        ..Outcome::with_room(2)
     };
     let st = lab(from, &r_from, &v0);
     out.at_onset = st[0];
@@ -666,7 +676,7 @@ pub fn resolve_specimen(
         at_onset: (p_from, v_from),
         contact_time: tc,
         from,
-        ..Outcome::default()
+        ..Outcome::with_room(1)
     };
     out.sample(from, &[(p_from, v_from)]);
     let g = flight.g;

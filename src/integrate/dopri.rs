@@ -142,26 +142,44 @@ impl Dopri5 {
             self.first_stage_valid = true;
             evals += 1;
         }
-        for s in 1..7 {
-            for (i, (st, yi)) in self.stage.iter_mut().zip(y).enumerate() {
-                let mut acc = 0.0;
-                for (j, a) in A[s].iter().enumerate().take(s) {
-                    acc += a * self.k[j][i];
+        let n = y.len();
+        let y = &y[..n];
+        // Stage sums unrolled per stage over slices of one length (no bounds checks in
+        // the loops); the additions run in the scalar form's order: identical results.
+        macro_rules! stage {
+            ($s:literal: $($j:literal),+) => {{
+                {
+                    let k = &self.k;
+                    let ks: [&[f64]; $s] = [$(&k[$j][..n]),+];
+                    let st = &mut self.stage[..n];
+                    let a = &A[$s];
+                    for i in 0..n {
+                        let acc = 0.0 $(+ a[$j] * ks[$j][i])+;
+                        st[i] = y[i] + h * acc;
+                    }
                 }
-                *st = yi + h * acc;
-            }
-            let (done, rest) = self.k.split_at_mut(s);
-            let _ = done;
-            f(t + C[s] * h, &self.stage, &mut rest[0]);
-            evals += 1;
+                let (_, rest) = self.k.split_at_mut($s);
+                f(t + C[$s] * h, &self.stage, &mut rest[0]);
+                evals += 1;
+            }};
         }
-        // Stage 7 is evaluated at the fifth-order solution itself (FSAL).
+        stage!(1: 0);
+        stage!(2: 0, 1);
+        stage!(3: 0, 1, 2);
+        stage!(4: 0, 1, 2, 3);
+        stage!(5: 0, 1, 2, 3, 4);
+        stage!(6: 0, 1, 2, 3, 4, 5);
         y_new.copy_from_slice(&self.stage);
-        for (i, ei) in err.iter_mut().enumerate() {
-            let mut e = 0.0;
-            for (j, w) in E.iter().enumerate() {
-                e += w * self.k[j][i];
-            }
+        let k: [&[f64]; 7] = std::array::from_fn(|j| &self.k[j][..n]);
+        for (i, ei) in err[..n].iter_mut().enumerate() {
+            let e = 0.0
+                + E[0] * k[0][i]
+                + E[1] * k[1][i]
+                + E[2] * k[2][i]
+                + E[3] * k[3][i]
+                + E[4] * k[4][i]
+                + E[5] * k[5][i]
+                + E[6] * k[6][i];
             *ei = h * e;
         }
         evals
