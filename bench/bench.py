@@ -155,6 +155,12 @@ def liggghts(tmp):
     fast_scene = os.path.join(tmp, "pack_matched.toml")
     open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
     ps_fast = fastest(fast_scene, "ps_fast")
+    # LIGGGHTS' contacts carry Coulomb friction (0.3); peenflow's pack is frictionless
+    # unless asked: the same pack with friction 0.3 at both contacts.
+    fric = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n"
+    fric_scene = os.path.join(tmp, "pack_matched_friction.toml")
+    open(fric_scene, "w").write(text.replace("[effects]", matched + fric + "[effects]"))
+    ps_fric = fastest(fric_scene, "ps_fric")
     win_scene = os.path.join(tmp, "pack_windows.toml")
     open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
     ps_win = peenflow(win_scene, 1, tmp, "ps_win")
@@ -243,11 +249,31 @@ nozzle_wall_contact = false
         e_v = err(velocities(scene, verlet, "v"))
         print(f"outgoing-velocity error, {name}: {label}: {e_m:.2e}; velocity Verlet 20 ns: {e_v:.2e}")
         assert e_m <= e_v, f"the matched setting is less accurate than a 20 ns Verlet step ({name})"
+    # With friction (the velocity-Verlet baseline integrates no spin, so the reference is
+    # the frictionless Verlet error of the same impact): outgoing velocities and surface
+    # spin speeds against a converged run.
+    def spun(scene, integrator, tag):
+        path = os.path.join(tmp, f"{tag}.toml")
+        open(path, "w").write(scene.replace("[effects]", integrator + fric + "[effects]"))
+        out = os.path.join(tmp, tag)
+        run([BIN, "run", path, "--out", out, "--force", "-q", "-j", "1"], tmp)
+        import csv
+        rows = sorted(csv.DictReader(open(os.path.join(out, "shots.csv"))), key=lambda r: int(r["shot"]))
+        keys = ("vx_m_s", "vy_m_s", "vz_m_s")
+        spins = ("omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s")
+        return [float(r[k]) for r in rows for k in keys] + [float(r[k]) * 0.4e-3 for r in rows for k in spins]
+    for name, scene, speed in cases:
+        ref = spun(scene, converged, "fref")
+        e_m = max(abs(a - b) for a, b in zip(spun(scene, matched, "fm"), ref)) / speed
+        e_v = max(abs(a - b) for a, b in zip(velocities(scene, verlet, "v"), velocities(scene, converged, "ref"))) / speed
+        print(f"outgoing-velocity and spin error with friction 0.3, {name}: {label}: {e_m:.2e}; velocity Verlet 20 ns without friction: {e_v:.2e}")
+        assert e_m <= e_v, f"the matched setting with friction is less accurate than a frictionless 20 ns Verlet step ({name})"
     print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread) | LIGGGHTS / peenflow |")
     print("|---|---|---|---|")
     lg = results["stream"]
     print(f"| stream, 10,000 shots at 70 m/s, 170 us: event scheduler, tolerance 1e-6 (default) | {lg:.2f} | {ps['wall']:.2f} | {lg / ps['wall']:.2f} |")
     print(f"| same, event scheduler at LIGGGHTS' accuracy (tolerance 1e-4) | {lg:.2f} | {ps_fast['wall']:.2f} | {lg / ps_fast['wall']:.2f} |")
+    print(f"| same, event scheduler at LIGGGHTS' accuracy, with LIGGGHTS' friction (0.3) | {lg:.2f} | {ps_fric['wall']:.2f} | {lg / ps_fric['wall']:.2f} |")
     print(f"| same, window scheduler, default accuracy | {lg:.2f} | {ps_win['wall']:.2f} | {lg / ps_win['wall']:.2f} |")
     # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
     print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
