@@ -50,7 +50,7 @@ pub struct WorkCounters {
     /// Event scheduler: contacts found already overlapping when their cluster started
     /// (should stay zero; reported so a user can see it).
     pub late_contacts: u64,
-    /// Event scheduler: lone frictionless contacts (two shots, or a shot and the
+    /// Event scheduler: lone contacts (two shots, or a shot and the
     /// specimen) resolved in closed form and a two-body frame instead of as an island
     /// (`events/binary.rs`).
     pub lean_contacts: u64,

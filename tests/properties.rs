@@ -28,6 +28,8 @@ struct Encounter {
     e_pair: f64,
     e_wall: f64,
     with_specimen: bool,
+    /// Coulomb coefficient at both contacts (0: frictionless).
+    mu: f64,
     /// Run on the window scheduler (island integrator) instead of the automatic choice
     /// (the event scheduler here, with its lean contact path).
     windows: bool,
@@ -83,6 +85,7 @@ fn a_contact_continued_on_the_lean_path_ends_where_the_island_does() {
         e_pair: 0.39942351367964196,
         e_wall: 0.05941374871800544,
         with_specimen: false,
+        mu: 0.0,
         windows: false,
     };
     let shots = place(&enc);
@@ -115,14 +118,16 @@ fn encounter() -> impl Strategy<Value = Encounter> {
         prop_oneof![Just(1.0), 0.05..1.0f64],
         0.05..=1.0f64,
         any::<bool>(),
+        prop_oneof![Just(0.0), 0.05..0.5f64],
         any::<bool>(),
     )
         .prop_map(
-            |(shots, e_pair, e_wall, with_specimen, windows)| Encounter {
+            |(shots, e_pair, e_wall, with_specimen, mu, windows)| Encounter {
                 shots,
                 e_pair,
                 e_wall,
                 with_specimen,
+                mu,
                 windows,
             },
         )
@@ -148,6 +153,13 @@ fn place(enc: &Encounter) -> Vec<ShotState> {
 fn physics(enc: &Encounter, tol: f64) -> Physics {
     let mut phys = contact_physics(enc.with_specimen.then_some(enc.e_wall), Some(enc.e_pair));
     phys.tolerance = tol;
+    if enc.mu > 0.0 {
+        phys.contacts.friction = Some(peenflow::contact::Friction {
+            specimen: enc.mu,
+            shot: enc.mu,
+            wall: 0.0,
+        });
+    }
     phys
 }
 
@@ -155,9 +167,9 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases()))]
 
     /// The event scheduler's lean contact path (lone contacts in a two-body frame) and
-    /// its island integrator resolve the same encounter to the same end: at tolerance
-    /// 1e-10 every final velocity within 1e-6 of the fastest initial speed, the same
-    /// contact and impact counts.
+    /// its island integrator resolve the same encounter to the same end, with or without
+    /// friction: at tolerance 1e-10 every final velocity and surface spin speed within
+    /// 1e-6 of the fastest initial speed, the same contact and impact counts.
     #[test]
     fn lean_contacts_end_where_islands_do(enc in encounter()) {
         let shots = place(&enc);
@@ -172,6 +184,8 @@ proptest! {
         prop_assert_eq!(lean.work.contact_onsets, island.work.contact_onsets);
         for (a, b) in lean.shots.iter().zip(&island.shots) {
             prop_assert!((a.vel - b.vel).norm() <= 1e-6 * v_max, "{:?} vs {:?}", a.vel, b.vel);
+            let r = a.body.radius;
+            prop_assert!((a.omega - b.omega).norm() * r <= 1e-6 * v_max, "{:?} vs {:?}", a.omega, b.omega);
         }
     }
 
@@ -213,7 +227,7 @@ proptest! {
         prop_assert!(ke1 <= ke0 * (1.0 + 1e-3), "energy gained: {ke1} > {ke0}");
         if !enc.with_specimen {
             prop_assert!((p(&out.shots) - p0).norm() <= 1e-12 * scale, "momentum drift");
-            if enc.e_pair == 1.0 {
+            if enc.e_pair == 1.0 && enc.mu == 0.0 {
                 prop_assert!((ke1 - ke0).abs() <= 1e-3 * ke0, "undamped energy {ke1} vs {ke0}");
             }
         }

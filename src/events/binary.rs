@@ -1,4 +1,4 @@
-//! Lone frictionless contacts in ballistic flight, resolved in closed form where the
+//! Lone contacts in ballistic flight, resolved in closed form where the
 //! motion is free and in a two-body frame where it is not: the event scheduler's lean
 //! path for the contacts of a falling stream (a shot meeting one other shot, or the
 //! specimen, with nobody else near).
@@ -8,6 +8,11 @@
 //!   `r'' = F(delta, delta') n / m*` with `delta = R_i + R_j - |r|`, `n = r / |r|`.
 //! * **A shot and the specimen.** `z'' = F(delta, delta') / m - g` with `delta = R - z`;
 //!   the motion along the plane is free.
+//! * **Friction** (`mu > 0`): the state also carries the spins (both shots' for a pair;
+//!   the tangential force is internal, so the centre of mass still flies in closed form),
+//!   with the island integrator's tangential law, lever arms and spin error weights.
+//!   After the kink the normal force is zero, so the tangential force is too: the release
+//!   stays closed form, the spins constant.
 //!
 //! `F` is the island integrator's Hertz-Tsuji force, clamped at zero. The phases are
 //! those the island integrator goes through, in one body's state:
@@ -26,6 +31,7 @@
 //! the caller integrates the shots as an island instead.
 
 use crate::Vec3;
+use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::{PairContact, effective_mass};
 use crate::integrate::dopri::Dopri5;
@@ -47,6 +53,8 @@ pub struct Body {
     pub mass: f64,
     /// Radius, m.
     pub radius: f64,
+    /// Spin, rad/s (changed only by friction).
+    pub omega: Vec3,
 }
 
 /// The integrator's settings.
@@ -94,6 +102,10 @@ pub struct Outcome {
     pub touching: bool,
     /// Positions and velocities at `end`.
     pub state: [(Vec3, Vec3); 2],
+    /// Spins after the contact (as they came without friction), rad/s.
+    pub omega: [Vec3; 2],
+    /// Whether friction acted (the spins were integrated).
+    pub spins: bool,
     /// Sample times: `from`, after every accepted step, and `kink`.
     pub times: Vec<f64>,
     /// Positions and velocities at the sample times, `n` per sample.
@@ -229,6 +241,9 @@ struct Phase<'a> {
     depth_limit: f64,
     /// Smallest body radius (the scale of position errors and of the kink's location).
     r_min: f64,
+    /// Radii of the bodies whose spins follow the position and velocity in the state
+    /// (friction on; empty without).
+    spin_radii: &'a [f64],
     set: Settings,
     /// Hertz duration of the contact, s, and its onset, s.
     tc: f64,
@@ -242,21 +257,21 @@ impl Phase<'_> {
     /// Returns whether the contact still pushes at the returned `t`; `None` if the lean
     /// path does not apply (too deep, too long, a collapsing step).
     #[allow(clippy::too_many_arguments)]
-    fn run(
+    fn run<const N: usize>(
         &self,
-        y: &mut [f64; 6],
+        y: &mut [f64; N],
         t: &mut f64,
         e: f64,
         pushes: bool,
         dopri: &mut Dopri5,
         out: &mut Outcome,
-        on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64; 6]),
+        on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64]),
     ) -> Option<bool> {
         let (tol, h_cap) = (self.set.tolerance, self.tc / self.set.contact_steps);
         let (sx, kink_tol) = (tol * 2.0 * self.r_min, 1e-6 * self.r_min);
         // A fresh contact pushes from the touch on; one in progress may be past its kink.
         let mut pushing = pushes || (self.margin)(y) > 0.0;
-        let (mut y_new, mut err) = ([0.0; 6], [0.0; 6]);
+        let (mut y_new, mut err) = ([0.0; N], [0.0; N]);
         // The first step after the touch is short (the dashpot's delta^(1/4)), as in the
         // island integrator; a contact in progress starts at the contact step.
         let mut h = if *t - self.onset < ONSET_STEP * h_cap {
@@ -264,12 +279,21 @@ impl Phase<'_> {
         } else {
             h_cap
         };
-        dopri.resize(6);
+        dopri.resize(N);
         let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
         let error_norm = |y: &[f64], err: &[f64]| {
-            let sv = tol * (Vec3::new(y[3], y[4], y[5]).norm() + 1.0);
-            (0..3).fold(0.0f64, |m, q| {
+            let speed = Vec3::new(y[3], y[4], y[5]).norm();
+            let sv = tol * (speed + 1.0);
+            let e = (0..3).fold(0.0f64, |m, q| {
                 m.max(err[q].abs() / sx).max(err[3 + q].abs() / sv)
+            });
+            // Spins as the island weighs them: the contact-point speed omega R on the
+            // velocity's scale.
+            self.spin_radii.iter().enumerate().fold(e, |m, (b, &r)| {
+                let o = 6 + 3 * b;
+                let w = Vec3::new(y[o], y[o + 1], y[o + 2]).norm();
+                let sw = tol * (speed + w * r + 1.0) / r;
+                (0..3).fold(m, |m, q| m.max(err[o + q].abs() / sw))
             })
         };
         while pushing && *t < e {
@@ -475,6 +499,7 @@ impl Outcome {
             c.collisions += u32::from(self.fresh);
         }
         (c.pos, c.vel) = self.state[q];
+        c.omega = self.omega[q];
         c.steps += self.steps;
         c.ahead = None;
     }
@@ -491,12 +516,15 @@ impl Outcome {
             w.specimen_contact_checks += self.rhs;
             w.gravity_calls += self.rhs;
         }
+        if self.spins {
+            w.friction_calls += self.rhs;
+        }
         w.contact_onsets += u64::from(self.fresh);
         w.lean_contacts += u64::from(self.fresh);
     }
 }
 
-fn vecs(y: &[f64; 6]) -> (Vec3, Vec3) {
+fn vecs(y: &[f64]) -> (Vec3, Vec3) {
     (Vec3::new(y[0], y[1], y[2]), Vec3::new(y[3], y[4], y[5]))
 }
 
@@ -508,6 +536,7 @@ fn vecs(y: &[f64; 6]) -> (Vec3, Vec3) {
 #[allow(clippy::too_many_arguments)]
 pub fn resolve(
     law: &HertzLaw,
+    mu: f64,
     flight: &Flight,
     a: &Body,
     b: &Body,
@@ -560,19 +589,45 @@ pub fn resolve(
     let st = lab(from, &r_from, &v0);
     out.at_onset = st[0];
     out.sample(from, &st);
+    // With friction (`mu > 0`) the state carries both spins (values 6..12); the
+    // tangential force acts at the middle of the overlap, as in the island integrator.
+    let (ia, ib) = (
+        INERTIA_FACTOR * a.mass * a.radius * a.radius,
+        INERTIA_FACTOR * b.mass * b.radius * b.radius,
+    );
+    let m_t = friction::sphere_pair_mass(a.mass, b.mass);
     let rhs = |y: &[f64], dy: &mut [f64]| {
         let r = Vec3::new(y[0], y[1], y[2]);
         let v = Vec3::new(y[3], y[4], y[5]);
         dy[..3].copy_from_slice(&y[3..6]);
         let d = r.norm();
         let overlap = sigma - d;
-        let acc = if overlap > 0.0 && d > 0.0 {
+        let mut acc = Vec3::zeros();
+        let (mut alpha_a, mut alpha_b) = (Vec3::zeros(), Vec3::zeros());
+        if overlap > 0.0 && d > 0.0 {
             let n = r / d;
-            n * (law.force(k, m_eff, overlap, -v.dot(&n)) / m_eff)
-        } else {
-            Vec3::zeros()
-        };
-        dy[3..].copy_from_slice(acc.as_slice());
+            let f = law.force(k, m_eff, overlap, -v.dot(&n));
+            acc = n * (f / m_eff);
+            if y.len() > 6 {
+                let (ra, rb) = (
+                    n * (a.radius - 0.5 * overlap),
+                    n * (0.5 * overlap - b.radius),
+                );
+                let (wa, wb) = (Vec3::new(y[6], y[7], y[8]), Vec3::new(y[9], y[10], y[11]));
+                let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), &n);
+                let gamma = friction::stick_damping(m_t, k, overlap);
+                // On shot `a`; `b` feels the opposite.
+                let ft = friction::tangential_force(mu, f, &slip, gamma);
+                acc -= ft / m_eff;
+                alpha_a = ra.cross(&ft) / ia;
+                alpha_b = rb.cross(&(-ft)) / ib;
+            }
+        }
+        dy[3..6].copy_from_slice(acc.as_slice());
+        if y.len() > 6 {
+            dy[6..9].copy_from_slice(alpha_a.as_slice());
+            dy[9..12].copy_from_slice(alpha_b.as_slice());
+        }
     };
     let margin = |y: &[f64]| {
         let r = Vec3::new(y[0], y[1], y[2]);
@@ -582,33 +637,42 @@ pub fn resolve(
     };
     let overlap = |y: &[f64]| sigma - Vec3::new(y[0], y[1], y[2]).norm();
     let r_min = a.radius.min(b.radius);
+    let spins = mu > 0.0;
+    let radii = [a.radius, b.radius];
     let phase = Phase {
         rhs: &rhs,
         margin: &margin,
         overlap: &overlap,
         depth_limit: r_eff,
         r_min,
+        spin_radii: if spins { &radii } else { &[] },
         set,
         tc,
         onset,
     };
-    let mut y = [r_from.x, r_from.y, r_from.z, v0.x, v0.y, v0.z];
+    let (wa, wb) = (a.omega, b.omega);
+    let mut y = [
+        r_from.x, r_from.y, r_from.z, v0.x, v0.y, v0.z, wa.x, wa.y, wa.z, wb.x, wb.y, wb.z,
+    ];
     let mut t = from;
     // A contact handed on at its touch (rounding may leave the shots a hair apart) still
     // has all of its loading ahead.
     let at_touch = r_from.norm() >= sigma && v0.dot(&r_from) < 0.0;
-    let pushing = phase.run(
-        &mut y,
-        &mut t,
-        e,
-        progress.is_none() || at_touch,
-        dopri,
-        &mut out,
-        &mut |out, t, y| {
-            let (r, v) = vecs(y);
-            out.sample(t, &lab(t, &r, &v));
-        },
-    )?;
+    let mut sample = |out: &mut Outcome, t: f64, y: &[f64]| {
+        let (r, v) = vecs(y);
+        out.sample(t, &lab(t, &r, &v));
+    };
+    let pushes = progress.is_none() || at_touch;
+    let pushing = if spins {
+        phase.run(&mut y, &mut t, e, pushes, dopri, &mut out, &mut sample)?
+    } else {
+        let mut y6 = [y[0], y[1], y[2], y[3], y[4], y[5]];
+        let p = phase.run(&mut y6, &mut t, e, pushes, dopri, &mut out, &mut sample)?;
+        y[..6].copy_from_slice(&y6);
+        p
+    };
+    out.omega = [Vec3::new(y[6], y[7], y[8]), Vec3::new(y[9], y[10], y[11])];
+    out.spins = spins;
     let (r, v) = vecs(&y);
     if !out.end_phase(t, lab(t, &r, &v), pushing, e) {
         return Some(out);
@@ -640,6 +704,7 @@ pub fn resolve(
 #[allow(clippy::too_many_arguments)]
 pub fn resolve_specimen(
     law: &HertzLaw,
+    mu: f64,
     flight: &Flight,
     a: &Body,
     progress: Option<InProgress>,
@@ -680,6 +745,10 @@ pub fn resolve_specimen(
     };
     out.sample(from, &[(p_from, v_from)]);
     let g = flight.g;
+    // With friction (`mu > 0`) the state carries the spin (values 6..9); the tangential
+    // force acts at the lowest point, as in the island integrator.
+    let inertia = INERTIA_FACTOR * m * r * r;
+    let m_t = friction::sphere_on_wall_mass(m);
     let rhs = |y: &[f64], dy: &mut [f64]| {
         dy[..3].copy_from_slice(&y[3..6]);
         let overlap = r - y[2];
@@ -688,9 +757,21 @@ pub fn resolve_specimen(
         } else {
             0.0
         };
-        dy[3] = 0.0;
-        dy[4] = 0.0;
-        dy[5] = f / m - g;
+        let mut acc = Vec3::new(0.0, 0.0, f / m - g);
+        let mut alpha = Vec3::zeros();
+        if y.len() > 6 && overlap > 0.0 {
+            let r_c = Vec3::new(0.0, 0.0, -r);
+            let (v, w) = (Vec3::new(y[3], y[4], y[5]), Vec3::new(y[6], y[7], y[8]));
+            let slip = friction::tangential_part(&(v + w.cross(&r_c)), &Vec3::z());
+            let gamma = friction::stick_damping(m_t, k, overlap);
+            let ft = friction::tangential_force(mu, f, &slip, gamma);
+            acc += ft / m;
+            alpha = r_c.cross(&ft) / inertia;
+        }
+        dy[3..6].copy_from_slice(acc.as_slice());
+        if y.len() > 6 {
+            dy[6..9].copy_from_slice(alpha.as_slice());
+        }
     };
     let margin = |y: &[f64]| law.unloading_margin(k, m, r - y[2], -y[5]);
     let overlap = |y: &[f64]| r - y[2];
@@ -700,22 +781,30 @@ pub fn resolve_specimen(
         overlap: &overlap,
         depth_limit: 0.5 * r,
         r_min: r,
+        spin_radii: if mu > 0.0 { &[r] } else { &[] },
         set,
         tc,
         onset,
     };
-    let mut y = [p_from.x, p_from.y, p_from.z, v_from.x, v_from.y, v_from.z];
+    let w = a.omega;
+    let mut y = [
+        p_from.x, p_from.y, p_from.z, v_from.x, v_from.y, v_from.z, w.x, w.y, w.z,
+    ];
     let mut t = from;
     let at_touch = p_from.z >= r && v_from.z < 0.0;
-    let pushing = phase.run(
-        &mut y,
-        &mut t,
-        e,
-        progress.is_none() || at_touch,
-        dopri,
-        &mut out,
-        &mut |out, t, y| out.sample(t, &[vecs(y)]),
-    )?;
+    let mut sample = |out: &mut Outcome, t: f64, y: &[f64]| out.sample(t, &[vecs(y)]);
+    let pushes = progress.is_none() || at_touch;
+    let pushing = if mu > 0.0 {
+        phase.run(&mut y, &mut t, e, pushes, dopri, &mut out, &mut sample)?
+    } else {
+        let mut y6 = [y[0], y[1], y[2], y[3], y[4], y[5]];
+        let p = phase.run(&mut y6, &mut t, e, pushes, dopri, &mut out, &mut sample)?;
+        y[..6].copy_from_slice(&y6);
+        p
+    };
+    let spin = Vec3::new(y[6], y[7], y[8]);
+    out.omega = [spin, spin];
+    out.spins = mu > 0.0;
     let (p, v) = vecs(&y);
     if !out.end_phase(t, [(p, v); 2], pushing, e) {
         return Some(out);
@@ -747,6 +836,7 @@ mod tests {
         Body {
             pos,
             vel,
+            omega: Vec3::zeros(),
             mass: 7850.0 * std::f64::consts::PI / 6.0 * 0.8e-3f64.powi(3),
             radius: 0.4e-3,
         }
@@ -756,6 +846,7 @@ mod tests {
         let mut d = Dopri5::new(6);
         resolve(
             l,
+            0.0,
             &Flight { g },
             a,
             b,
@@ -873,18 +964,10 @@ mod tests {
             tolerance: 1e-8,
             contact_steps: 10.0,
         };
-        let o = resolve_specimen(
-            &l,
-            &Flight { g: 0.0 },
-            &a,
-            None,
-            0.0,
-            1e-4,
-            0.0,
-            set,
-            &mut d,
-        )
-        .expect("a clean impact");
+        let until = |e: f64, d: &mut Dopri5| {
+            resolve_specimen(&l, 0.0, &Flight { g: 0.0 }, &a, None, 0.0, e, 0.0, set, d)
+        };
+        let o = until(1e-4, &mut d).expect("a clean impact");
         let touch = 0.6e-3 / 70.0;
         assert!((o.onset - touch).abs() < 1e-15);
         assert!((o.at_onset.0.z - 0.4e-3).abs() < 1e-15);
@@ -902,8 +985,7 @@ mod tests {
         // In two chunks (cut inside the contact, continued from the state handed back)
         // it ends where one chunk does, to the tolerance.
         let cut = o.onset + 0.4 * o.contact_time;
-        let first = resolve_specimen(&l, &Flight { g: 0.0 }, &a, None, 0.0, cut, 0.0, set, &mut d)
-            .expect("the first half");
+        let first = until(cut, &mut d).expect("the first half");
         assert!(first.touching && first.end == cut);
         let b = Body {
             pos: first.state[0].0,
@@ -916,6 +998,7 @@ mod tests {
         };
         let second = resolve_specimen(
             &l,
+            0.0,
             &Flight { g: 0.0 },
             &b,
             Some(progress),
@@ -955,6 +1038,7 @@ mod tests {
         );
         let o = resolve(
             &law(0.9),
+            0.0,
             &flight,
             &a,
             &b,
@@ -979,6 +1063,7 @@ mod tests {
         );
         let o = resolve_specimen(
             &law(0.7),
+            0.0,
             &flight,
             &c,
             Some(progress),
@@ -1010,6 +1095,7 @@ mod tests {
         assert!(
             resolve(
                 &l,
+                0.0,
                 &flight,
                 &a,
                 &b,
@@ -1025,6 +1111,7 @@ mod tests {
         assert!(
             resolve(
                 &l,
+                0.0,
                 &flight,
                 &a,
                 &b,

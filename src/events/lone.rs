@@ -78,7 +78,6 @@ impl Engine<'_> {
     fn lone_applies(&self, who: &[usize]) -> bool {
         let c = &self.phys.contacts;
         self.lean
-            && c.friction.is_none()
             && c.wall.is_none()
             && who
                 .iter()
@@ -99,6 +98,7 @@ impl Engine<'_> {
             Body {
                 pos,
                 vel,
+                omega: self.shots[i].omega,
                 mass: b.mass,
                 radius: b.radius,
             }
@@ -114,6 +114,7 @@ impl Engine<'_> {
                     .as_ref()
                     .expect("BUG: shot-shot touch without pair contact")
                     .law,
+                c.friction.map_or(0.0, |f| f.shot),
                 &self.flight,
                 &starts[0],
                 &starts[1],
@@ -129,6 +130,7 @@ impl Engine<'_> {
                     .as_ref()
                     .expect("BUG: floor touch without specimen")
                     .law,
+                c.friction.map_or(0.0, |f| f.specimen),
                 &self.flight,
                 &starts[0],
                 progress,

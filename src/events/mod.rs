@@ -35,15 +35,15 @@
 //! * a contact found overlapping when its cluster starts is counted in `late_contacts`
 //!   (reported in summary.json: about 1 in 2,000 contacts on the 10,000-shot pack).
 //!
-//! A touch whose contact nobody else can come near while it lasts (one frictionless
-//! contact: two shots, or a shot and the specimen) is resolved at its event on the lean
+//! A touch whose contact nobody else can come near while it lasts (one contact, with or
+//! without friction: two shots, or a shot and the specimen) is resolved at its event on the lean
 //! path without opening a cluster (lone.rs); the rest open clusters as above. A cluster
 //! left holding one contact in progress continues it the same way when nobody else can
 //! come near.
 //!
 //! A member gathered for safety that ends up touching nothing (no pair in its chunk, the
 //! specimen out of reach) is not integrated at all: it keeps its free path, its clock
-//! and its pending events. A group with a single frictionless contact (two shots, or a
+//! and its pending events. A group with a single contact (two shots, or a
 //! shot and the specimen) whose other shots fly clear of it takes the lean path
 //! (binary.rs: closed-form flight, one body's state through the contact) instead of the
 //! island integrator; `Simulation::with_lean_contacts(false)` turns it off. The queue is a calendar queue (queue.rs): same order as one
@@ -1012,7 +1012,7 @@ impl<'a> Engine<'a> {
                 unchanged[k] = true;
                 continue;
             }
-            // One frictionless contact (two shots, or a shot and the specimen), everyone
+            // One contact (two shots, or a shot and the specimen), everyone
             // else in the group flying clear of it: resolved in closed form and a
             // two-body frame (binary.rs), no island.
             if let Some((lean, o)) = self.try_lean(grp, &group_pairs[g], &copies, cl, s, e) {
@@ -1146,7 +1146,7 @@ impl<'a> Engine<'a> {
     }
 
     /// The lean path (binary.rs) for group `grp` (cluster-local indices into `copies`,
-    /// states at `s`; `pairs` in group slots), if it applies: no friction, no nozzle
+    /// states at `s`; `pairs` in group slots), if it applies: no nozzle
     /// wall; every shot of the group free from `s` on; one contact in the group, in
     /// progress or the group's first touch on free paths, between two shots or between a
     /// shot and the specimen, over (or still on) at `e` with its shots inside the domain;
@@ -1164,7 +1164,7 @@ impl<'a> Engine<'a> {
         e: f64,
     ) -> Option<([usize; 2], binary::Outcome)> {
         let c = &self.phys.contacts;
-        if !self.lean || c.friction.is_some() || c.wall.is_some() {
+        if !self.lean || c.wall.is_some() {
             return None;
         }
         if !grp
@@ -1253,6 +1253,7 @@ impl<'a> Engine<'a> {
         let body = |m: &ShotState| binary::Body {
             pos: m.pos,
             vel: m.vel,
+            omega: m.omega,
             mass: m.body.mass,
             radius: m.body.radius,
         };
@@ -1264,6 +1265,7 @@ impl<'a> Engine<'a> {
         let o = if n == 2 {
             binary::resolve(
                 &c.pair.as_ref()?.law,
+                c.friction.map_or(0.0, |f| f.shot),
                 &self.flight,
                 &body(&copies[lean[0]]),
                 &body(&copies[lean[1]]),
@@ -1277,6 +1279,7 @@ impl<'a> Engine<'a> {
         } else {
             binary::resolve_specimen(
                 &c.specimen.as_ref()?.law,
+                c.friction.map_or(0.0, |f| f.specimen),
                 &self.flight,
                 &body(&copies[lean[0]]),
                 progress,
