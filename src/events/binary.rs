@@ -1092,37 +1092,9 @@ mod tests {
         };
         let touch = 0.2e-3 / 119.0;
         let flight = Flight { g: 0.0 };
-        assert!(
-            resolve(
-                &l,
-                0.0,
-                &flight,
-                &a,
-                &b,
-                None,
-                0.0,
-                touch + 1e-7,
-                0.0,
-                set,
-                &mut d
-            )
-            .is_some_and(|o| o.touching)
-        );
-        assert!(
-            resolve(
-                &l,
-                0.0,
-                &flight,
-                &a,
-                &b,
-                None,
-                0.0,
-                touch + 1e-5,
-                0.0,
-                set,
-                &mut d
-            )
-            .is_some_and(|o| !o.touching)
-        );
+        let until =
+            |e: f64, d: &mut Dopri5| resolve(&l, 0.0, &flight, &a, &b, None, 0.0, e, 0.0, set, d);
+        assert!(until(touch + 1e-7, &mut d).is_some_and(|o| o.touching));
+        assert!(until(touch + 1e-5, &mut d).is_some_and(|o| !o.touching));
     }
 }

@@ -17,7 +17,7 @@
 //! what a stream's contacts cost most; a lone contact pays for the lean path's steps and
 //! one neighbour scan per shot.
 
-use super::binary::{self, Body, InProgress, Neighbour, Settings};
+use super::binary::{Body, InProgress, Neighbour};
 use super::{Cluster, Engine, NONE};
 use crate::Vec3;
 
@@ -103,44 +103,8 @@ impl Engine<'_> {
                 radius: b.radius,
             }
         };
-        let set = Settings {
-            tolerance: self.phys.tolerance,
-            contact_steps: self.phys.contact_steps,
-        };
         let starts: Vec<Body> = who.iter().map(|&i| body(i)).collect();
-        let o = match who {
-            [_, _] => binary::resolve(
-                &c.pair
-                    .as_ref()
-                    .expect("BUG: shot-shot touch without pair contact")
-                    .law,
-                c.friction.map_or(0.0, |f| f.shot),
-                &self.flight,
-                &starts[0],
-                &starts[1],
-                progress,
-                s,
-                e,
-                s,
-                set,
-                &mut self.pair_dopri,
-            ),
-            _ => binary::resolve_specimen(
-                &c.specimen
-                    .as_ref()
-                    .expect("BUG: floor touch without specimen")
-                    .law,
-                c.friction.map_or(0.0, |f| f.specimen),
-                &self.flight,
-                &starts[0],
-                progress,
-                s,
-                e,
-                s,
-                set,
-                &mut self.pair_dopri,
-            ),
-        };
+        let o = self.lean_outcome(&starts, progress, s, e, s);
         let Some(o) = o else {
             return false;
         };

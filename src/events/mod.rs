@@ -1257,39 +1257,8 @@ impl<'a> Engine<'a> {
             mass: m.body.mass,
             radius: m.body.radius,
         };
-        let set = binary::Settings {
-            tolerance: self.phys.tolerance,
-            contact_steps: self.phys.contact_steps,
-        };
-        let apart_after = cl.apart_after.max(s);
-        let o = if n == 2 {
-            binary::resolve(
-                &c.pair.as_ref()?.law,
-                c.friction.map_or(0.0, |f| f.shot),
-                &self.flight,
-                &body(&copies[lean[0]]),
-                &body(&copies[lean[1]]),
-                progress,
-                s,
-                e,
-                apart_after,
-                set,
-                &mut self.pair_dopri,
-            )?
-        } else {
-            binary::resolve_specimen(
-                &c.specimen.as_ref()?.law,
-                c.friction.map_or(0.0, |f| f.specimen),
-                &self.flight,
-                &body(&copies[lean[0]]),
-                progress,
-                s,
-                e,
-                apart_after,
-                set,
-                &mut self.pair_dopri,
-            )?
-        };
+        let bodies: Vec<binary::Body> = lean[..n].iter().map(|&k| body(&copies[k])).collect();
+        let o = self.lean_outcome(&bodies, progress, s, e, cl.apart_after.max(s))?;
         if !o.state[..n]
             .iter()
             .all(|(p, _)| self.phys.domain.contains(p))
@@ -1323,6 +1292,52 @@ impl<'a> Engine<'a> {
             }
         }
         Some((lean, o))
+    }
+
+    /// The lean path (binary.rs) for `bodies` (two shots, or one on the specimen) from
+    /// `s` to at most `e`: fresh (`progress` `None`) or a contact in progress.
+    fn lean_outcome(
+        &mut self,
+        bodies: &[binary::Body],
+        progress: Option<binary::InProgress>,
+        s: f64,
+        e: f64,
+        apart_after: f64,
+    ) -> Option<binary::Outcome> {
+        let c = &self.phys.contacts;
+        let set = binary::Settings {
+            tolerance: self.phys.tolerance,
+            contact_steps: self.phys.contact_steps,
+        };
+        let mu = |f: fn(&crate::contact::Friction) -> f64| c.friction.as_ref().map_or(0.0, f);
+        match bodies {
+            [a, b] => binary::resolve(
+                &c.pair.as_ref()?.law,
+                mu(|f| f.shot),
+                &self.flight,
+                a,
+                b,
+                progress,
+                s,
+                e,
+                apart_after,
+                set,
+                &mut self.pair_dopri,
+            ),
+            [a] => binary::resolve_specimen(
+                &c.specimen.as_ref()?.law,
+                mu(|f| f.specimen),
+                &self.flight,
+                a,
+                progress,
+                s,
+                e,
+                apart_after,
+                set,
+                &mut self.pair_dopri,
+            ),
+            _ => None,
+        }
     }
 
     /// Pairs `(i, j)`, `i < j`, whose balls `(centres, radii)` overlap.
