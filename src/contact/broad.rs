@@ -210,7 +210,7 @@ mod tests {
     }
 
     #[test]
-    fn matches_brute_force_for_mixed_radii() {
+    fn matches_brute_force_for_mixed_radii_in_both_layouts() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         for trial in 0..20 {
             let n = 300;
@@ -234,6 +234,26 @@ mod tests {
             let got = CellList::default().pairs(&centres, &radii);
             assert_eq!(got, brute(&centres, &radii), "trial {trial}");
             assert!(!got.is_empty());
+            // Spread over a box too large for a dense grid (the hashed layout): two
+            // clumps a metre apart.
+            let spread: Vec<Vec3> = centres
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    if k % 2 == 0 {
+                        *c
+                    } else {
+                        c + Vec3::new(1.0, 1.0, 1.0)
+                    }
+                })
+                .collect();
+            let mut cells = CellList::default();
+            let got = cells.pairs(&spread, &radii);
+            assert!(
+                !cells.fine.dense,
+                "trial {trial}: the grid should be hashed"
+            );
+            assert_eq!(got, brute(&spread, &radii), "trial {trial}, spread");
         }
     }
 }
