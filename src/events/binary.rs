@@ -21,7 +21,8 @@
 //! * loading and unloading: Dormand-Prince steps with the island's error norm and caps
 //!   (first step 1 % of a contact step, then at most `t_c / contact_steps`);
 //! * the kink: the step that would take the unclamped force below zero is cut back to
-//!   where it crosses zero (a secant search on the step, as the island's event location);
+//!   where it crosses zero (located as the island's events: from the step's dense output,
+//!   then trial steps);
 //! * release: with the force at zero the motion is free again (the overlap only falls, so
 //!   the force cannot return) and the parting time is closed form.
 //!
@@ -35,7 +36,7 @@ use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::{PairContact, effective_mass};
 use crate::integrate::dopri::Dopri5;
-use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing};
+use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing_guided};
 
 use super::flight::{Flight, closest_approach, pair_touch};
 use crate::counters::WorkCounters;
@@ -328,22 +329,32 @@ impl Phase<'_> {
             let full = h;
             let g1 = (self.margin)(&y_new);
             if g1 < 0.0 {
-                // Cut the step back to the kink (Illinois secant, kept inside the bracket).
+                // Cut the step back to the kink, located from the dense output first.
                 pushing = false;
-                let hi = first_crossing(
+                // The step's dense output estimates the margin inside it at no cost.
+                let dense = dopri.dense(*t, y, &y_new, h);
+                let mut at = [0.0; N];
+                let (hi, held) = first_crossing_guided(
                     (0.0, (self.margin)(y).max(0.0)),
                     (h, g1),
                     kink_tol,
+                    &mut |c| {
+                        dense.at(*t + c, &mut at);
+                        (self.margin)(&at)
+                    },
                     &mut |c| {
                         out.rhs += u64::from(dopri.step(&mut f, *t, y, c, &mut y_new, &mut err));
                         out.rejected += 1;
                         (self.margin)(&y_new)
                     },
                 );
-                if hi != h {
-                    h = hi;
-                    out.rhs += u64::from(dopri.step(&mut f, *t, y, h, &mut y_new, &mut err));
+                if held {
+                    // The last trial step ended at the kink: it is the step taken.
+                    out.rejected -= 1;
+                } else if hi != h {
+                    out.rhs += u64::from(dopri.step(&mut f, *t, y, hi, &mut y_new, &mut err));
                 }
+                h = hi;
             }
             out.steps += 1;
             *y = y_new;
