@@ -264,7 +264,6 @@ impl Phase<'_> {
         t: &mut f64,
         e: f64,
         pushes: bool,
-        dopri: &mut Dopri5,
         out: &mut Outcome,
         on_step: &mut dyn FnMut(&mut Outcome, f64, &[f64]),
     ) -> Option<bool> {
@@ -280,7 +279,9 @@ impl Phase<'_> {
         } else {
             h_cap
         };
-        dopri.resize(N);
+        // The stages on the stack: the loops over `N` values unroll.
+        let mut fixed = Dopri5::<[f64; N]>::fixed();
+        let dopri = &mut fixed;
         let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
         let error_norm = |y: &[f64], err: &[f64]| {
             let speed = Vec3::new(y[3], y[4], y[5]).norm();
@@ -556,7 +557,6 @@ pub fn resolve(
     e: f64,
     apart_after: f64,
     set: Settings,
-    dopri: &mut Dopri5,
 ) -> Option<Outcome> {
     let sigma = a.radius + b.radius;
     let r0 = b.pos - a.pos;
@@ -675,10 +675,10 @@ pub fn resolve(
     };
     let pushes = progress.is_none() || at_touch;
     let pushing = if spins {
-        phase.run(&mut y, &mut t, e, pushes, dopri, &mut out, &mut sample)?
+        phase.run(&mut y, &mut t, e, pushes, &mut out, &mut sample)?
     } else {
         let mut y6 = [y[0], y[1], y[2], y[3], y[4], y[5]];
-        let p = phase.run(&mut y6, &mut t, e, pushes, dopri, &mut out, &mut sample)?;
+        let p = phase.run(&mut y6, &mut t, e, pushes, &mut out, &mut sample)?;
         y[..6].copy_from_slice(&y6);
         p
     };
@@ -723,7 +723,6 @@ pub fn resolve_specimen(
     e: f64,
     apart_after: f64,
     set: Settings,
-    dopri: &mut Dopri5,
 ) -> Option<Outcome> {
     let r = a.radius;
     let m = a.mass;
@@ -806,10 +805,10 @@ pub fn resolve_specimen(
     let mut sample = |out: &mut Outcome, t: f64, y: &[f64]| out.sample(t, &[vecs(y)]);
     let pushes = progress.is_none() || at_touch;
     let pushing = if mu > 0.0 {
-        phase.run(&mut y, &mut t, e, pushes, dopri, &mut out, &mut sample)?
+        phase.run(&mut y, &mut t, e, pushes, &mut out, &mut sample)?
     } else {
         let mut y6 = [y[0], y[1], y[2], y[3], y[4], y[5]];
-        let p = phase.run(&mut y6, &mut t, e, pushes, dopri, &mut out, &mut sample)?;
+        let p = phase.run(&mut y6, &mut t, e, pushes, &mut out, &mut sample)?;
         y[..6].copy_from_slice(&y6);
         p
     };
@@ -854,7 +853,6 @@ mod tests {
     }
 
     fn run(l: &HertzLaw, a: &Body, b: &Body, g: f64, tol: f64) -> Outcome {
-        let mut d = Dopri5::new(6);
         resolve(
             l,
             0.0,
@@ -869,7 +867,6 @@ mod tests {
                 tolerance: tol,
                 contact_steps: 10.0,
             },
-            &mut d,
         )
         .expect("a clean binary contact")
     }
@@ -970,15 +967,13 @@ mod tests {
     fn specimen_impact_returns_the_restitution() {
         let l = law(0.7);
         let a = shot(Vec3::new(1e-3, 0.0, 1e-3), Vec3::new(3.0, 0.0, -70.0));
-        let mut d = Dopri5::new(6);
         let set = Settings {
             tolerance: 1e-8,
             contact_steps: 10.0,
         };
-        let until = |e: f64, d: &mut Dopri5| {
-            resolve_specimen(&l, 0.0, &Flight { g: 0.0 }, &a, None, 0.0, e, 0.0, set, d)
-        };
-        let o = until(1e-4, &mut d).expect("a clean impact");
+        let until =
+            |e: f64| resolve_specimen(&l, 0.0, &Flight { g: 0.0 }, &a, None, 0.0, e, 0.0, set);
+        let o = until(1e-4).expect("a clean impact");
         let touch = 0.6e-3 / 70.0;
         assert!((o.onset - touch).abs() < 1e-15);
         assert!((o.at_onset.0.z - 0.4e-3).abs() < 1e-15);
@@ -996,7 +991,7 @@ mod tests {
         // In two chunks (cut inside the contact, continued from the state handed back)
         // it ends where one chunk does, to the tolerance.
         let cut = o.onset + 0.4 * o.contact_time;
-        let first = until(cut, &mut d).expect("the first half");
+        let first = until(cut).expect("the first half");
         assert!(first.touching && first.end == cut);
         let b = Body {
             pos: first.state[0].0,
@@ -1017,7 +1012,6 @@ mod tests {
             1e-4,
             0.0,
             set,
-            &mut d,
         )
         .expect("the second half");
         assert!(!second.fresh && !second.touching);
@@ -1036,7 +1030,6 @@ mod tests {
             contact_steps: 10.0,
         };
         let flight = Flight { g: 9.81 };
-        let mut d = Dopri5::new(6);
         let progress = InProgress {
             onset: 0.0,
             contact_time: 1e-6,
@@ -1058,7 +1051,6 @@ mod tests {
             1e-4,
             0.0,
             set,
-            &mut d,
         )
         .expect("a contact in progress");
         let [(pa, va), (pb, vb)] = o.state;
@@ -1082,7 +1074,6 @@ mod tests {
             1e-4,
             0.0,
             set,
-            &mut d,
         )
         .expect("a contact in progress");
         let (p, v) = o.state[0];
@@ -1096,16 +1087,14 @@ mod tests {
         let l = law(0.9);
         let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
         let b = shot(Vec3::new(0.0, 0.0, 6e-3), Vec3::new(0.0, 0.0, -70.0));
-        let mut d = Dopri5::new(6);
         let set = Settings {
             tolerance: 1e-6,
             contact_steps: 10.0,
         };
         let touch = 0.2e-3 / 119.0;
         let flight = Flight { g: 0.0 };
-        let until =
-            |e: f64, d: &mut Dopri5| resolve(&l, 0.0, &flight, &a, &b, None, 0.0, e, 0.0, set, d);
-        assert!(until(touch + 1e-7, &mut d).is_some_and(|o| o.touching));
-        assert!(until(touch + 1e-5, &mut d).is_some_and(|o| !o.touching));
+        let until = |e: f64| resolve(&l, 0.0, &flight, &a, &b, None, 0.0, e, 0.0, set);
+        assert!(until(touch + 1e-7).is_some_and(|o| o.touching));
+        assert!(until(touch + 1e-5).is_some_and(|o| !o.touching));
     }
 }

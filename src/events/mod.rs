@@ -63,7 +63,6 @@ pub mod queue;
 use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::{PairContact, effective_mass, hertz};
-use crate::integrate::dopri::Dopri5;
 use crate::integrate::island::{
     self, IslandOutput, IslandPair, MIN_CONTACT_SPEED, Method, Physics, Scratch,
 };
@@ -289,8 +288,6 @@ struct Engine<'a> {
     next_gen: u32,
     out: IslandOutput,
     scratch: Scratch,
-    /// Stages of the lean contact path (`binary.rs`).
-    pair_dopri: Dopri5,
     /// Whether lone contacts take the lean path.
     lean: bool,
     cells: CellList,
@@ -365,7 +362,6 @@ impl<'a> Engine<'a> {
             next_gen: 0,
             out: IslandOutput::default(),
             scratch: Scratch::default(),
-            pair_dopri: Dopri5::new(6),
             lean: true,
             cells: CellList::default(),
             buf: Vec::new(),
@@ -1322,7 +1318,6 @@ impl<'a> Engine<'a> {
                 e,
                 apart_after,
                 set,
-                &mut self.pair_dopri,
             ),
             [a] => binary::resolve_specimen(
                 &c.specimen.as_ref()?.law,
@@ -1334,7 +1329,6 @@ impl<'a> Engine<'a> {
                 e,
                 apart_after,
                 set,
-                &mut self.pair_dopri,
             ),
             _ => None,
         }

@@ -69,8 +69,9 @@ impl ForceSet {
         gust: &Vec3,
         work: &mut WorkCounters,
     ) -> Vec3 {
-        let mut force = Vec3::zeros();
+        let mut acc = Vec3::zeros();
         if let Some(field) = &self.field {
+            let mut force = Vec3::zeros();
             work.flow_samples += 1;
             let flow = field.sample(pos, region);
             let area = body.area();
@@ -87,8 +88,8 @@ impl ForceSet {
                 work.lateral_force_calls += 1;
                 force += lateral.force(body.mass, area, &flow, region, &field.axis, vel);
             }
+            acc = force / body.mass;
         }
-        let mut acc = force / body.mass;
         if let Some(g) = &self.gravity {
             work.gravity_calls += 1;
             acc += g.acceleration;

@@ -93,11 +93,14 @@ impl DenseStep {
     }
 }
 
-/// Reusable stage storage for a state of fixed length.
+/// Reusable stage storage for a state of fixed length: `Vec`s sized at run time (the
+/// island's states), or arrays on the stack (`Dopri5<[f64; N]>`, the lean path's 6-,
+/// 9- and 12-value states, where the stage loops unroll). Both run the same code in the
+/// same order, so their results are identical.
 #[derive(Debug, Clone)]
-pub struct Dopri5 {
-    k: [Vec<f64>; 7],
-    stage: Vec<f64>,
+pub struct Dopri5<K = Vec<f64>> {
+    k: [K; 7],
+    stage: K,
     /// Whether `k[0]` holds `f(t, y)` for the current start point.
     pub first_stage_valid: bool,
 }
@@ -120,7 +123,20 @@ impl Dopri5 {
         self.stage.resize(n, 0.0);
         self.first_stage_valid = false;
     }
+}
 
+impl<const N: usize> Dopri5<[f64; N]> {
+    /// Workspace on the stack for states of length `N`.
+    pub fn fixed() -> Self {
+        Dopri5 {
+            k: [[0.0; N]; 7],
+            stage: [0.0; N],
+            first_stage_valid: false,
+        }
+    }
+}
+
+impl<K: AsRef<[f64]> + AsMut<[f64]>> Dopri5<K> {
     /// One trial step of size `h` from `(t, y)`: writes the fifth-order solution to
     /// `y_new` and the error estimate (fifth minus fourth order) to `err`. Returns the
     /// number of right-hand-side evaluations made (6, or 7 when the first stage was stale).
@@ -138,7 +154,7 @@ impl Dopri5 {
     {
         let mut evals = 0;
         if !self.first_stage_valid {
-            f(t, y, &mut self.k[0]);
+            f(t, y, self.k[0].as_mut());
             self.first_stage_valid = true;
             evals += 1;
         }
@@ -150,8 +166,8 @@ impl Dopri5 {
             ($s:literal: $($j:literal),+) => {{
                 {
                     let k = &self.k;
-                    let ks: [&[f64]; $s] = [$(&k[$j][..n]),+];
-                    let st = &mut self.stage[..n];
+                    let ks: [&[f64]; $s] = [$(&k[$j].as_ref()[..n]),+];
+                    let st = &mut self.stage.as_mut()[..n];
                     let a = &A[$s];
                     for i in 0..n {
                         let acc = 0.0 $(+ a[$j] * ks[$j][i])+;
@@ -159,7 +175,7 @@ impl Dopri5 {
                     }
                 }
                 let (_, rest) = self.k.split_at_mut($s);
-                f(t + C[$s] * h, &self.stage, &mut rest[0]);
+                f(t + C[$s] * h, self.stage.as_ref(), rest[0].as_mut());
                 evals += 1;
             }};
         }
@@ -169,8 +185,8 @@ impl Dopri5 {
         stage!(4: 0, 1, 2, 3);
         stage!(5: 0, 1, 2, 3, 4);
         stage!(6: 0, 1, 2, 3, 4, 5);
-        y_new.copy_from_slice(&self.stage);
-        let k: [&[f64]; 7] = std::array::from_fn(|j| &self.k[j][..n]);
+        y_new.copy_from_slice(self.stage.as_ref());
+        let k: [&[f64]; 7] = std::array::from_fn(|j| &self.k[j].as_ref()[..n]);
         for (i, ei) in err[..n].iter_mut().enumerate() {
             let e = 0.0
                 + E[0] * k[0][i]
@@ -192,7 +208,7 @@ impl Dopri5 {
     pub fn dense(&self, t0: f64, y0: &[f64], y1: &[f64], h: f64) -> DenseStep {
         let n = y0.len();
         let mut rc = vec![0.0; 5 * n];
-        let k = &self.k;
+        let k: [&[f64]; 7] = std::array::from_fn(|j| self.k[j].as_ref());
         for i in 0..n {
             let r2 = y1[i] - y0[i];
             let r3 = h * k[0][i] - r2;

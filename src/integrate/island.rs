@@ -865,11 +865,17 @@ impl Ctx<'_> {
         };
         // Approach: the step may end at most one contact-resolving step past the
         // ballistic touching time, so a contact is neither skipped nor entered deeply.
-        let approach = |gap: f64, closing: f64, m_eff: f64, k: f64| -> f64 {
+        // (`cap` so far: a touch no sooner than that cannot lower it, and its Hertz time
+        // costs a power.)
+        let approach = |gap: f64, closing: f64, m_eff: f64, k: f64, cap: f64| -> f64 {
             if closing <= 0.0 {
                 return f64::INFINITY;
             }
-            gap.max(0.0) / closing + ONSET_STEP * hertz::contact_time(m_eff, k, closing) / n
+            let free = gap.max(0.0) / closing;
+            if free >= cap {
+                return free;
+            }
+            free + ONSET_STEP * hertz::contact_time(m_eff, k, closing) / n
         };
         for (i, m) in members.iter().enumerate() {
             if !moving(m, t) {
@@ -890,7 +896,13 @@ impl Ctx<'_> {
                     ));
                 } else {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                    cap = cap.min(approach(sp.gap(&p, m.body.radius), -v.z, m.body.mass, k));
+                    cap = cap.min(approach(
+                        sp.gap(&p, m.body.radius),
+                        -v.z,
+                        m.body.mass,
+                        k,
+                        cap,
+                    ));
                 }
             }
             if let Some(w) = &c.wall {
@@ -906,7 +918,7 @@ impl Ctx<'_> {
                     ));
                 } else if let Some(geo) = w.geometry(&p, m.body.radius) {
                     let k = w.law.stiffness(w.effective_radius(m.body.radius));
-                    cap = cap.min(approach(geo.gap, v.dot(&geo.outward), m.body.mass, k));
+                    cap = cap.min(approach(geo.gap, v.dot(&geo.outward), m.body.mass, k, cap));
                 }
             }
         }
@@ -946,6 +958,7 @@ impl Ctx<'_> {
                     closing,
                     effective_mass(bi.mass, bj.mass),
                     k,
+                    cap,
                 ));
             }
         }
@@ -1608,7 +1621,7 @@ pub(crate) fn first_crossing(
 }
 
 /// Samples of the estimated margin that look for its first sign change in a step.
-const GUESS_SAMPLES: usize = 8;
+const GUESS_SAMPLES: usize = 4;
 
 /// [`first_crossing`] for a margin `g` along a step whose dense output gives a cheap
 /// estimate `guess` of it (no right-hand side): the first sign change of `guess` on
