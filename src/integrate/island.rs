@@ -574,18 +574,17 @@ impl Ctx<'_> {
         out: &mut IslandOutput,
     ) {
         let c = &self.phys.contacts;
-        // Bisection for the first s in (0, 1] where gap(s) < 0, given gap(0) >= 0 > gap(1).
+        // The first s in (0, 1] where gap(s) < 0 (within 1e-12 of the smallest radius),
+        // given gap(0) >= 0 > gap(1): the safeguarded secant on the interpolant, a few
+        // evaluations (bisection to the last bit took 60: 2.5 % of the pack stream's
+        // instructions).
+        let tol = 1e-12
+            * members
+                .iter()
+                .map(|m| m.body.radius)
+                .fold(f64::INFINITY, f64::min);
         let root = |gap: &dyn Fn(f64) -> f64| -> f64 {
-            let (mut lo, mut hi) = (0.0, 1.0);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if gap(mid) < 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            hi
+            first_crossing((0.0, gap(0.0)), (1.0, gap(1.0)), tol, &mut |s| gap(s)).0
         };
         let n = members.len();
         for (i, m) in members.iter_mut().enumerate() {
