@@ -37,6 +37,7 @@ use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::{PairContact, effective_mass};
 use crate::integrate::dopri::Dopri5;
 use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing_guided};
+use crate::integrate::vec_at;
 
 use super::flight::{Flight, closest_approach, pair_touch};
 use crate::counters::WorkCounters;
@@ -284,7 +285,7 @@ impl Phase<'_> {
         let dopri = &mut fixed;
         let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
         let error_norm = |y: &[f64], err: &[f64]| {
-            let speed = Vec3::new(y[3], y[4], y[5]).norm();
+            let speed = vec_at(y, 3).norm();
             let sv = tol * (speed + 1.0);
             let e = (0..3).fold(0.0f64, |m, q| {
                 m.max(err[q].abs() / sx).max(err[3 + q].abs() / sv)
@@ -293,7 +294,7 @@ impl Phase<'_> {
             // velocity's scale.
             self.spin_radii.iter().enumerate().fold(e, |m, (b, &r)| {
                 let o = 6 + 3 * b;
-                let w = Vec3::new(y[o], y[o + 1], y[o + 2]).norm();
+                let w = vec_at(y, o).norm();
                 let sw = tol * (speed + w * r + 1.0) / r;
                 (0..3).fold(m, |m, q| m.max(err[o + q].abs() / sw))
             })
@@ -537,7 +538,7 @@ impl Outcome {
 }
 
 fn vecs(y: &[f64]) -> (Vec3, Vec3) {
-    (Vec3::new(y[0], y[1], y[2]), Vec3::new(y[3], y[4], y[5]))
+    (vec_at(y, 0), vec_at(y, 3))
 }
 
 /// Resolves the contact of shots `a` and `b` (states at `s`) over the chunk `[s, e]`,
@@ -608,8 +609,8 @@ pub fn resolve(
     );
     let m_t = friction::sphere_pair_mass(a.mass, b.mass);
     let rhs = |y: &[f64], dy: &mut [f64]| {
-        let r = Vec3::new(y[0], y[1], y[2]);
-        let v = Vec3::new(y[3], y[4], y[5]);
+        let r = vec_at(y, 0);
+        let v = vec_at(y, 3);
         dy[..3].copy_from_slice(&y[3..6]);
         let d = r.norm();
         let overlap = sigma - d;
@@ -624,7 +625,7 @@ pub fn resolve(
                     n * (a.radius - 0.5 * overlap),
                     n * (0.5 * overlap - b.radius),
                 );
-                let (wa, wb) = (Vec3::new(y[6], y[7], y[8]), Vec3::new(y[9], y[10], y[11]));
+                let (wa, wb) = (vec_at(y, 6), vec_at(y, 9));
                 let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), &n);
                 let gamma = friction::stick_damping(m_t, k, overlap);
                 // On shot `a`; `b` feels the opposite.
@@ -641,12 +642,12 @@ pub fn resolve(
         }
     };
     let margin = |y: &[f64]| {
-        let r = Vec3::new(y[0], y[1], y[2]);
+        let r = vec_at(y, 0);
         let d = r.norm();
-        let rate = -Vec3::new(y[3], y[4], y[5]).dot(&r) / d;
+        let rate = -vec_at(y, 3).dot(&r) / d;
         law.unloading_margin(k, m_eff, sigma - d, rate)
     };
-    let overlap = |y: &[f64]| sigma - Vec3::new(y[0], y[1], y[2]).norm();
+    let overlap = |y: &[f64]| sigma - vec_at(y, 0).norm();
     let r_min = a.radius.min(b.radius);
     let spins = mu > 0.0;
     let radii = [a.radius, b.radius];
@@ -682,7 +683,7 @@ pub fn resolve(
         y[..6].copy_from_slice(&y6);
         p
     };
-    out.omega = [Vec3::new(y[6], y[7], y[8]), Vec3::new(y[9], y[10], y[11])];
+    out.omega = [vec_at(&y, 6), vec_at(&y, 9)];
     out.spins = spins;
     let (r, v) = vecs(&y);
     if !out.end_phase(t, lab(t, &r, &v), pushing, e) {
@@ -771,7 +772,7 @@ pub fn resolve_specimen(
         let mut alpha = Vec3::zeros();
         if y.len() > 6 && overlap > 0.0 {
             let r_c = Vec3::new(0.0, 0.0, -r);
-            let (v, w) = (Vec3::new(y[3], y[4], y[5]), Vec3::new(y[6], y[7], y[8]));
+            let (v, w) = (vec_at(y, 3), vec_at(y, 6));
             let slip = friction::tangential_part(&(v + w.cross(&r_c)), &Vec3::z());
             let gamma = friction::stick_damping(m_t, k, overlap);
             let ft = friction::tangential_force(mu, f, &slip, gamma);
@@ -812,7 +813,7 @@ pub fn resolve_specimen(
         y[..6].copy_from_slice(&y6);
         p
     };
-    let spin = Vec3::new(y[6], y[7], y[8]);
+    let spin = vec_at(&y, 6);
     out.omega = [spin, spin];
     out.spins = mu > 0.0;
     let (p, v) = vecs(&y);

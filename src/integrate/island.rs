@@ -22,6 +22,7 @@ use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
 use crate::forces::{ForceSet, Turbulence};
 use crate::integrate::dopri::Dopri5;
+use crate::integrate::{add_at, vec_at};
 use crate::record::{Impact, RunEvent};
 use crate::state::{Domain, ShotState, ShotStatus};
 
@@ -115,20 +116,19 @@ pub(crate) const MIN_CONTACT_SPEED: f64 = 0.01;
 
 #[inline]
 fn pos(y: &[f64], i: usize) -> Vec3 {
-    Vec3::new(y[6 * i], y[6 * i + 1], y[6 * i + 2])
+    vec_at(y, 6 * i)
 }
 
 #[inline]
 fn vel(y: &[f64], i: usize) -> Vec3 {
-    Vec3::new(y[6 * i + 3], y[6 * i + 4], y[6 * i + 5])
+    vec_at(y, 6 * i + 3)
 }
 
 /// Angular velocity of member `i` of `n` (stored after all positions and velocities,
 /// only when the `friction` effect is on).
 #[inline]
 fn omega(y: &[f64], n: usize, i: usize) -> Vec3 {
-    let o = 6 * n + 3 * i;
-    Vec3::new(y[o], y[o + 1], y[o + 2])
+    vec_at(y, 6 * n + 3 * i)
 }
 
 /// Writes the members' positions and velocities (then, with `spin`, their angular
@@ -174,10 +174,7 @@ fn spin_at(y0: &[f64], y1: &[f64], n: usize, i: usize, s: f64) -> Vec3 {
 /// Adds an angular acceleration to member `i` of `n`.
 #[inline]
 fn add_alpha(dy: &mut [f64], n: usize, i: usize, a: &Vec3) {
-    let o = 6 * n + 3 * i;
-    dy[o] += a.x;
-    dy[o + 1] += a.y;
-    dy[o + 2] += a.z;
+    add_at(dy, 6 * n + 3 * i, a);
 }
 
 /// Cubic Hermite interpolation of member `i` between `y0` and `y1` (a step of `h`) at
@@ -200,9 +197,7 @@ fn hermite(y0: &[f64], y1: &[f64], h: f64, i: usize, s: f64) -> (Vec3, Vec3) {
 
 #[inline]
 fn add_acc(dy: &mut [f64], i: usize, a: &Vec3) {
-    dy[6 * i + 3] += a.x;
-    dy[6 * i + 4] += a.y;
-    dy[6 * i + 5] += a.z;
+    add_at(dy, 6 * i + 3, a);
 }
 
 /// Whether member `m` moves at time `t`.
