@@ -158,7 +158,9 @@ impl<K: AsRef<[f64]> + AsMut<[f64]>> Dopri5<K> {
             self.first_stage_valid = true;
             evals += 1;
         }
-        let n = y.len();
+        // The workspace's length: a constant for arrays, so their loops unroll.
+        let n = self.stage.as_ref().len();
+        debug_assert_eq!(y.len(), n, "BUG: a state of another length than the workspace");
         let y = &y[..n];
         // Stage sums unrolled per stage over slices of one length (no bounds checks in
         // the loops); the additions run in the scalar form's order: identical results.
