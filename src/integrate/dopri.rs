@@ -160,7 +160,11 @@ impl<K: AsRef<[f64]> + AsMut<[f64]>> Dopri5<K> {
         }
         // The workspace's length: a constant for arrays, so their loops unroll.
         let n = self.stage.as_ref().len();
-        debug_assert_eq!(y.len(), n, "BUG: a state of another length than the workspace");
+        debug_assert_eq!(
+            y.len(),
+            n,
+            "BUG: a state of another length than the workspace"
+        );
         let y = &y[..n];
         // Stage sums unrolled per stage over slices of one length (no bounds checks in
         // the loops); the additions run in the scalar form's order: identical results.

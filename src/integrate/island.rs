@@ -569,17 +569,33 @@ impl Ctx<'_> {
         out: &mut IslandOutput,
     ) {
         let c = &self.phys.contacts;
-        // The first s in (0, 1] where gap(s) < 0 (within 1e-12 of the smallest radius),
-        // given gap(0) >= 0 > gap(1): the safeguarded secant on the interpolant, a few
-        // evaluations (bisection to the last bit took 60: 2.5 % of the pack stream's
-        // instructions).
+        // The first s in (0, 1] where gap(s) < 0, given gap(0) >= 0 > gap(1). A clear
+        // crossing (the step ends more than 1e-12 of the smallest radius inside) is found
+        // by the safeguarded secant on the interpolant, in a few evaluations; an overlap
+        // at the rounding level (a resting pile's touching neighbours) by bisection to the
+        // last bit, where the secant would stop at once at the step's end (measured on
+        // the dense bed: 27 % more steps). Bisection everywhere cost 60 evaluations per
+        // onset, 2.5 % of the pack stream's instructions.
         let tol = 1e-12
             * members
                 .iter()
                 .map(|m| m.body.radius)
                 .fold(f64::INFINITY, f64::min);
         let root = |gap: &dyn Fn(f64) -> f64| -> f64 {
-            first_crossing((0.0, gap(0.0)), (1.0, gap(1.0)), tol, &mut |s| gap(s)).0
+            let (g0, g1) = (gap(0.0), gap(1.0));
+            if g1 < -tol {
+                return first_crossing((0.0, g0), (1.0, g1), tol, &mut |s| gap(s)).0;
+            }
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if gap(mid) < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            hi
         };
         let n = members.len();
         for (i, m) in members.iter_mut().enumerate() {
