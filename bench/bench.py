@@ -11,7 +11,7 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
               and peenflow on the same scenes, wall-time ratios, and the accuracy check
               (peenflow's default tolerance must give at least the impact-speed accuracy of
               a fixed 20 ns step, LIGGGHTS' step for these shots); the stream scenes
-              are run three times each and the fastest run counts
+              are run five times each and the fastest run counts
 
 The machine is shared and noisy: compare ratios measured in one session.
 """
@@ -119,7 +119,7 @@ def effects(tmp):
     print(f"| (none; friction switched on, mu 0.3 / 0.2 / 0.2) | {walls[2]:.4f} | {steps:,} | spin integrated |")
 
 
-REPEATS = 3
+REPEATS = 5
 
 
 def liggghts_loop_times(log):
