@@ -1600,8 +1600,12 @@ pub(crate) fn first_crossing(
 ) -> (f64, bool) {
     let mut side = 0i8;
     let mut last = f64::NAN;
+    // The margin at `b` itself: `gb` is the Illinois weight, halved when the search stays
+    // on one side, and must not end it (it did until session 8, up to a few tolerances
+    // past the crossing).
+    let mut at_b = gb;
     for _ in 0..200 {
-        if gb > -tol_g || b - a <= 1e-13 * b {
+        if at_b > -tol_g || b - a <= 1e-13 * b {
             break;
         }
         let guard = 1e-3 * (b - a);
@@ -1614,7 +1618,7 @@ pub(crate) fn first_crossing(
         let gc = g(c);
         last = c;
         if gc < 0.0 {
-            (b, gb) = (c, gc);
+            (b, gb, at_b) = (c, gc, gc);
             if side == -1 {
                 ga *= 0.5;
             }
@@ -1877,6 +1881,17 @@ mod tests {
         let (end, _, _, ge) = locate(&g, &guess, 1e-12);
         assert!(ge <= 0.0 && ge > -1e-12, "g(end) = {ge:e}");
         assert!((end - 0.37).abs() < 1e-11);
+    }
+
+    #[test]
+    fn the_search_ends_on_the_margin_not_on_its_illinois_weight() {
+        // A margin that falls steeply at the step's end, just outside the window there:
+        // the secant lands on the positive side twice, which halves the weight of the
+        // end point; the search must still go on until the margin itself is in the window.
+        let tol = 1e-6;
+        let g = |c: f64| (1.0 - c * c) * (1.0 + 1.2e-6) - 1.2e-6;
+        let (end, _) = super::first_crossing((0.0, g(0.0)), (1.0, g(1.0)), tol, &mut |c| g(c));
+        assert!(g(end) <= 0.0 && g(end) > -tol, "g(end) = {:e}", g(end));
     }
 
     #[test]
