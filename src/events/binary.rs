@@ -35,7 +35,7 @@ use crate::Vec3;
 use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::{PairContact, effective_mass};
-use crate::integrate::dopri::Dopri5;
+use crate::integrate::dopri::{DenseStep, Dopri5};
 use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing_guided};
 use crate::integrate::vec_at;
 
@@ -283,6 +283,7 @@ impl Phase<'_> {
         // The stages on the stack: the loops over `N` values unroll.
         let mut fixed = Dopri5::<[f64; N]>::fixed();
         let dopri = &mut fixed;
+        let mut dense = DenseStep::default();
         let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| (self.rhs)(y, dy);
         let error_norm = |y: &[f64], err: &[f64]| {
             let speed = vec_at(y, 3).norm();
@@ -334,7 +335,7 @@ impl Phase<'_> {
                 // Cut the step back to the kink, located from the dense output first.
                 pushing = false;
                 // The step's dense output estimates the margin inside it at no cost.
-                let dense = dopri.dense(*t, y, &y_new, h);
+                dopri.dense_into(*t, y, &y_new, h, &mut dense);
                 let mut at = [0.0; N];
                 let (hi, held) = first_crossing_guided(
                     (0.0, (self.margin)(y).max(0.0)),

@@ -57,7 +57,7 @@ const D: [f64; 7] = [
 ];
 
 /// One accepted step `[t0, t0 + h]` with its dense output: the state at any time inside.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct DenseStep {
     /// Start of the step, s.
     pub t0: f64,
@@ -212,8 +212,20 @@ impl<K: AsRef<[f64]> + AsMut<[f64]>> Dopri5<K> {
     /// Prince (Hairer, Norsett & Wanner, Solving ODEs I, II.6), whose error is of the
     /// order of the step's own.
     pub fn dense(&self, t0: f64, y0: &[f64], y1: &[f64], h: f64) -> DenseStep {
+        let mut out = DenseStep::default();
+        self.dense_into(t0, y0, y1, h, &mut out);
+        out
+    }
+
+    /// [`Dopri5::dense`] into `out`, reusing its storage (event location: nothing is
+    /// allocated per located event).
+    pub fn dense_into(&self, t0: f64, y0: &[f64], y1: &[f64], h: f64, out: &mut DenseStep) {
         let n = y0.len();
-        let mut rc = vec![0.0; 5 * n];
+        out.t0 = t0;
+        out.h = h;
+        let rc = &mut out.rc;
+        rc.clear();
+        rc.resize(5 * n, 0.0);
         let k: [&[f64]; 7] = std::array::from_fn(|j| self.k[j].as_ref());
         for i in 0..n {
             let r2 = y1[i] - y0[i];
@@ -230,7 +242,6 @@ impl<K: AsRef<[f64]> + AsMut<[f64]>> Dopri5<K> {
                     + D[5] * k[5][i]
                     + D[6] * k[6][i]);
         }
-        DenseStep { t0, h, rc }
     }
 
     /// After accepting a step: the last stage becomes the next step's first stage.

@@ -21,7 +21,7 @@ use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
 use crate::forces::{ForceSet, Turbulence};
-use crate::integrate::dopri::Dopri5;
+use crate::integrate::dopri::{DenseStep, Dopri5};
 use crate::integrate::{add_at, vec_at};
 use crate::record::{Impact, RunEvent};
 use crate::state::{Domain, ShotState, ShotStatus};
@@ -94,6 +94,9 @@ pub struct Scratch {
     y_new: Vec<f64>,
     err: Vec<f64>,
     pushing: Pushing,
+    /// Event location: the step's dense output and a state read off it.
+    dense: DenseStep,
+    probe: Vec<f64>,
 }
 
 impl Default for Scratch {
@@ -104,6 +107,8 @@ impl Default for Scratch {
             y_new: Vec::new(),
             err: Vec::new(),
             pushing: Pushing::default(),
+            dense: DenseStep::default(),
+            probe: Vec::new(),
         }
     }
 }
@@ -1364,6 +1369,8 @@ fn advance_adaptive(
         y_new,
         err,
         pushing,
+        dense,
+        probe,
     } = scratch;
     dopri.invalidate();
     let mut work = WorkCounters::default();
@@ -1483,11 +1490,11 @@ fn advance_adaptive(
         if g1 < 0.0 {
             lands_at = None;
             // The step's dense output estimates the margin inside it at no cost.
-            let dense = dopri.dense(t, y, y_new, h);
-            let mut at = y.clone();
+            dopri.dense_into(t, y, y_new, h, dense);
+            probe.clone_from(y);
             let mut guess = |c: f64| {
-                dense.at(t + c, &mut at);
-                ctx.event_margin(members, pairs, pushing, t + c, &at)
+                dense.at(t + c, probe);
+                ctx.event_margin(members, pairs, pushing, t + c, probe)
             };
             let (b, held) =
                 first_crossing_guided((0.0, g0.max(0.0)), (h, g1), tol_g, &mut guess, &mut |c| {
