@@ -447,3 +447,54 @@ fn frictional_lean_contacts_match_the_island_integrator() {
         }
     }
 }
+
+/// A near miss that a collision turns into a hit: shot 0 strikes shot 1 off-centre and
+/// sends it, during their contact, into shot 2, which sits 26 um (3.25 % of contact
+/// distance) beyond a touch of either shot's free path. The event scheduler integrates
+/// together only the pairs whose free paths come within 3 % of a touch, so the chunk's
+/// check of the actual paths must find the hit and redo the chunk with the pair: three
+/// contacts, none found late, and the window scheduler's velocities (which integrates
+/// every nearby pair together) to 1e-6 of the impact speed at tolerance 1e-10.
+#[test]
+fn a_near_miss_that_a_collision_bends_into_a_hit_is_resolved() {
+    let d: f64 = 0.8e-3;
+    let (b, v): (f64, f64) = (0.5e-3, 100.0);
+    let p1 = Vec3::new(2e-3, 0.0, 0.01);
+    // The direction shot 1 is pushed in, and shot 2 beyond it.
+    let n = Vec3::new((d * d - b * b).sqrt(), b, 0.0) / d;
+    let p2 = p1 + n * (d + 26e-6);
+    let p0 = Vec3::new(0.0, -b, 0.01);
+    // Free paths: 1 and 2 stay where they are; 0 passes 2 along y = -b.
+    assert!((p2 - p1).norm() > 1.03 * d);
+    assert!(p2.y - p0.y > 1.03 * d);
+    let go = |s: Scheduler| {
+        let shots = vec![
+            shot(0, d, p0, Vec3::new(v, 0.0, 0.0)),
+            shot(1, d, p1, Vec3::zeros()),
+            shot(2, d, p2, Vec3::zeros()),
+        ];
+        let mut phys = contact_physics(None, Some(0.9));
+        phys.tolerance = 1e-10;
+        run(phys, shots, 1e-4, s)
+    };
+    let (ev, win) = (go(Scheduler::Events), go(Scheduler::Windows));
+    eprintln!(
+        "events: {} contacts, {} redos, {} late; windows: {} contacts",
+        ev.work.contact_onsets,
+        ev.work.cluster_redos,
+        ev.work.late_contacts,
+        win.work.contact_onsets
+    );
+    assert!(ev.work.cluster_redos >= 1);
+    assert_eq!(ev.work.late_contacts, 0);
+    assert_eq!(ev.work.contact_onsets, win.work.contact_onsets);
+    assert!(ev.shots[2].collisions >= 1);
+    for (a, w) in ev.shots.iter().zip(&win.shots) {
+        assert!(
+            (a.vel - w.vel).norm() < 1e-6 * v,
+            "{:?} vs {:?}",
+            a.vel,
+            w.vel
+        );
+    }
+}
