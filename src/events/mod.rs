@@ -1144,7 +1144,8 @@ impl<'a> Engine<'a> {
             }
             sub.clear();
             sub.extend(grp.iter().map(|&k| copies[k].clone()));
-            let mut steps: Vec<(f64, Vec<Vec3>)> = Vec::new();
+            // Step times, and the group's positions after each step (one run per step).
+            let (mut times, mut at) = (Vec::new(), Vec::new());
             let te = island::advance_until_apart(
                 self.phys,
                 &mut sub,
@@ -1159,18 +1160,20 @@ impl<'a> Engine<'a> {
                         let v2 = y[6 * q + 3].powi(2) + y[6 * q + 4].powi(2) + y[6 * q + 5].powi(2);
                         v_seen = v_seen.max(v2);
                     }
-                    steps.push((
-                        t,
-                        (0..grp.len())
-                            .map(|q| Vec3::new(y[6 * q], y[6 * q + 1], y[6 * q + 2]))
-                            .collect(),
-                    ));
+                    times.push(t);
+                    at.extend(
+                        (0..grp.len()).map(|q| Vec3::new(y[6 * q], y[6 * q + 1], y[6 * q + 2])),
+                    );
                 },
             );
             for (q, &k) in grp.iter().enumerate() {
                 copies[k] = sub[q].clone();
                 t_end[k] = te;
-                paths[k] = steps.iter().map(|(t, p)| (*t, p[q])).collect();
+                paths[k] = times
+                    .iter()
+                    .zip(at.chunks_exact(grp.len()))
+                    .map(|(&t, p)| (t, p[q]))
+                    .collect();
             }
         }
         let mut ipairs_out: Vec<IslandPair> = Vec::with_capacity(ipairs.len());
