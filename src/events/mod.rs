@@ -33,7 +33,8 @@
 //!   (shots squeezed between others can leave faster than they came) makes the cluster
 //!   gather again with the speed it reached (`cluster_redos`);
 //! * a contact found overlapping when its cluster starts is counted in `late_contacts`
-//!   (reported in summary.json: about 1 in 2,000 contacts on the 10,000-shot pack).
+//!   (reported in summary.json: about 1 in 3,000 contacts on the 10,000-shot pack, most
+//!   of them overlaps at the rounding level between shots that had just parted).
 //!
 //! A touch whose contact nobody else can come near while it lasts (one contact, with or
 //! without friction: two shots, or a shot and the specimen) is resolved at its event on the lean
