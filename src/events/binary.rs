@@ -235,10 +235,10 @@ impl Neighbour {
 
 /// The contact phase of a six-value state (position, velocity of the one moving body):
 /// [`Phase::run`] steps it from `t` to the kink or `e`, whichever comes first.
-struct Phase<'a> {
-    rhs: &'a dyn Fn(&[f64], &mut [f64]),
-    margin: &'a dyn Fn(&[f64]) -> f64,
-    overlap: &'a dyn Fn(&[f64]) -> f64,
+struct Phase<'a, R, M, O> {
+    rhs: &'a R,
+    margin: &'a M,
+    overlap: &'a O,
     /// Deepest overlap allowed (the island integrator stops the shots beyond it).
     depth_limit: f64,
     /// Smallest body radius (the scale of position errors and of the kink's location).
@@ -252,7 +252,12 @@ struct Phase<'a> {
     onset: f64,
 }
 
-impl Phase<'_> {
+impl<R, M, O> Phase<'_, R, M, O>
+where
+    R: Fn(&[f64], &mut [f64]),
+    M: Fn(&[f64]) -> f64,
+    O: Fn(&[f64]) -> f64,
+{
     /// Steps `(t, y)` through the contact (`pushes`: it pushes from the start: a fresh
     /// touch, or one in progress at or short of the touching distance and closing) until
     /// the force reaches zero or `t` reaches `e`; `on_step` sees every accepted step before that.
