@@ -1000,13 +1000,16 @@ impl<'a> Engine<'a> {
             }
             linked.sort_unstable();
             linked.dedup();
+            let forced = linked.len();
             // A pair whose free paths come within the slack of a touch over the contact's
             // likely span is carried; one that does not meets only if a member's path
             // bends or the contact lasts longer, and is verified on the paths (a miss
             // redoes the chunk with it carried).
             let horizon = e.min(s + LINK_HORIZON * cl.tc);
             for &(i, j) in &local {
-                if link_all || linked.binary_search(&(i, j)).is_ok() {
+                // (Forced pairs: the sorted head of `linked`; pairs pushed below follow.)
+                if link_all || linked[..forced].binary_search(&(i, j)).is_ok() {
+                    linked.push((i, j));
                     continue;
                 }
                 let ((pi, vi, ti), (pj, vj, tj)) = (starts[i as usize], starts[j as usize]);
@@ -1021,9 +1024,6 @@ impl<'a> Engine<'a> {
                 } else {
                     watched.push((i, j));
                 }
-            }
-            if link_all {
-                linked.extend_from_slice(&local);
             }
             local.extend_from_slice(&linked);
             local.sort_unstable();
