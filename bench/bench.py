@@ -13,6 +13,9 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
               a fixed 20 ns step, LIGGGHTS' step for these shots); the stream scenes
               run in five interleaved rounds (LIGGGHTS, then each peenflow variant),
               each round's matched ratio is printed, and the fastest run of each counts
+  --liggghts-scale  the stream at LIGGGHTS' accuracy for N = 10,000, 50,000 and 200,000
+              shots (the column widens with N as in stream.in: same volume fraction and
+              height), one run of each code per N, and the ratio per N (about 5 minutes)
 
 The machine is shared and noisy: compare ratios measured in one session.
 """
@@ -284,12 +287,40 @@ nozzle_wall_contact = false
     print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
 
 
+def liggghts_scale(tmp):
+    """The matched stream at growing N: does the ratio hold as the scene grows?"""
+    if not shutil.which("liggghts"):
+        sys.exit("liggghts not found: apt-get install -y liggghts")
+    inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
+    shutil.copy(os.path.join(inputs, "stream.in"), tmp)
+    text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
+    text = text.replace("[effects]", "[integrator]\ntolerance = 1e-4\n[effects]")
+    print("| shots | column width mm | LIGGGHTS loop s | peenflow wall s | contacts | peenflow us per contact | LIGGGHTS / peenflow |")
+    print("|---|---|---|---|---|---|---|")
+    for n in (10_000, 50_000, 200_000):
+        # stream.in: L = sqrt(N * (pi/6) d^3 / (phi H)); the 10,000-shot scene's 73.223299 mm.
+        width = 73.223299 * (n / 10_000) ** 0.5
+        scene = os.path.join(tmp, f"pack_{n}.toml")
+        open(scene, "w").write(
+            text.replace("count = 10000", f"count = {n}").replace("73.223299", f"{width:.6f}")
+        )
+        log = f"log.scale{n}"
+        run(["liggghts", "-in", "stream.in", "-var", "N", str(n), "-log", log, "-screen", f"screen.scale{n}"], tmp)
+        lg = liggghts_loop_times(open(os.path.join(tmp, log)).read())[-1]
+        r = peenflow(scene, 1, tmp, f"scale{n}")
+        print(f"| {n:,} | {width:.1f} | {lg:.2f} | {r['wall']:.2f} | {r['contacts']:,} | "
+              f"{1e6 * r['wall'] / r['contacts']:.1f} | {lg / r['wall']:.2f} |")
+        sys.stdout.flush()
+
+
 def main():
     args = set(sys.argv[1:])
     subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
     with tempfile.TemporaryDirectory() as tmp:
         if "--liggghts" in args:
             liggghts(tmp)
+        if "--liggghts-scale" in args:
+            liggghts_scale(tmp)
         if "--effects" in args:
             effects(tmp)
         if not args - {"--quick"}:

@@ -74,7 +74,7 @@ fn draw_diameter(sizes: &SizeDistribution, rng: &mut ChaCha8Rng) -> f64 {
 /// A hash grid of placed shots for overlap checks during placement.
 struct Grid {
     cell: f64,
-    cells: std::collections::HashMap<(i64, i64, i64), Vec<usize>>,
+    cells: rustc_hash::FxHashMap<(i64, i64, i64), Vec<usize>>,
 }
 
 impl Grid {
