@@ -62,6 +62,7 @@ def peenflow(scene, threads, tmp, tag):
         "contacts_per_s": contacts / wall,
         "wall_per_ms": wall / (s["simulated_time_s"] * 1e3),
         "rss_mb": rss,
+        "left_domain": s["left_domain"],
     }
 
 
@@ -301,13 +302,14 @@ def liggghts_scale(tmp):
         # stream.in: L = sqrt(N * (pi/6) d^3 / (phi H)); the 10,000-shot scene's 73.223299 mm.
         width = 73.223299 * (n / 10_000) ** 0.5
         scene = os.path.join(tmp, f"pack_{n}.toml")
-        open(scene, "w").write(
-            text.replace("count = 10000", f"count = {n}").replace("73.223299", f"{width:.6f}")
-        )
+        # The domain (250 mm around the origin by default) must hold the whole column.
+        body = text.replace("count = 10000", f"count = {n}").replace("73.223299", f"{width:.6f}")
+        open(scene, "w").write(body.replace("[effects]", f"[domain]\nradius_mm = {2 * width:.1f}\n[effects]"))
         log = f"log.scale{n}"
         run(["liggghts", "-in", "stream.in", "-var", "N", str(n), "-log", log, "-screen", f"screen.scale{n}"], tmp)
         lg = liggghts_loop_times(open(os.path.join(tmp, log)).read())[-1]
         r = peenflow(scene, 1, tmp, f"scale{n}")
+        assert r["left_domain"] == 0, f"{n} shots: {r['left_domain']} left the domain"
         print(f"| {n:,} | {width:.1f} | {lg:.2f} | {r['wall']:.2f} | {r['contacts']:,} | "
               f"{1e6 * r['wall'] / r['contacts']:.1f} | {lg / r['wall']:.2f} |")
         sys.stdout.flush()
