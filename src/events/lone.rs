@@ -31,7 +31,7 @@ impl Engine<'_> {
         let tc = self.contact_time(who, t_on);
         let s = who
             .iter()
-            .map(|&i| self.t_ref[i])
+            .map(|&i| self.fly[i].t_ref)
             .fold(t_on - tc / self.phys.contact_steps, f64::max);
         if s >= t_on {
             return false;
@@ -45,7 +45,7 @@ impl Engine<'_> {
     /// its shots fly free). Nothing changes if not.
     pub(super) fn lone_continuation(&mut self, cl: &Cluster) -> bool {
         let who = &cl.members[..];
-        if !self.lone_applies(who) || who.iter().any(|&i| self.t_ref[i] != cl.clock) {
+        if !self.lone_applies(who) || who.iter().any(|&i| self.fly[i].t_ref != cl.clock) {
             return false;
         }
         let progress = match who {
@@ -139,7 +139,7 @@ impl Engine<'_> {
                 // What is known of it: free from its clock until its next touch; a
                 // shot of a cluster in progress only where its chunk ended; outside
                 // that, within the speed bound.
-                let (clock, owned) = (self.t_ref[k], self.owner[k] != NONE);
+                let (clock, owned) = (self.fly[k].t_ref, self.owner[k] != NONE);
                 let nc = self.next_change[k].without(who);
                 let until = if owned {
                     clock
@@ -152,24 +152,24 @@ impl Engine<'_> {
                 let t_mid = s.clamp(clock, until.max(clock));
                 let centre = self
                     .flight
-                    .at(&self.shots[k].pos, &self.shots[k].vel, t_mid - clock)
+                    .at(&self.fly[k].pos, &self.fly[k].vel, t_mid - clock)
                     .0;
                 let roam = vb * (o.end - t_mid).max(t_mid - s);
                 let gap = (box_lo - centre)
                     .sup(&(centre - box_hi))
                     .sup(&Vec3::zeros())
                     .norm();
-                if gap > start.radius + self.shots[k].body.radius + roam {
+                if gap > start.radius + self.fly[k].radius + roam {
                     continue;
                 }
                 let nb = Neighbour {
                     clock,
-                    pos: self.shots[k].pos,
-                    vel: self.shots[k].vel,
+                    pos: self.fly[k].pos,
+                    vel: self.fly[k].vel,
                     until,
                     bounded_before: owned || clock > o.from,
                     speed: vb,
-                    sigma: start.radius + self.shots[k].body.radius,
+                    sigma: start.radius + self.fly[k].radius,
                 };
                 if !o.clear_of(q, &self.flight, s, (start.pos, start.vel), &nb) {
                     lone = false;
@@ -184,8 +184,9 @@ impl Engine<'_> {
         // Hand the shots back, free from the moment they part.
         for (q, &m) in who.iter().enumerate() {
             o.apply(q, &mut self.shots[m], &mut self.out.impacts);
+            self.sync(m);
             self.owner[m] = NONE;
-            self.t_ref[m] = o.end;
+            self.fly[m].t_ref = o.end;
             self.ver[m] += 1;
             self.v_max = self.v_max.max(self.shots[m].vel.norm());
             let cell = self.grid.cell_of(&self.shots[m].pos);
@@ -193,7 +194,7 @@ impl Engine<'_> {
         }
         o.count(&mut self.out.work);
         for &m in who {
-            if self.t_ref[m] < self.end {
+            if self.fly[m].t_ref < self.end {
                 self.predict(m);
             }
         }

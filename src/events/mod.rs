@@ -321,14 +321,27 @@ struct Chunk {
     unchanged: Vec<bool>,
 }
 
+/// A shot's free-flight state as the scans read it: position and velocity at `t_ref`, and
+/// the radius.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+struct Fly {
+    pos: Vec3,
+    vel: Vec3,
+    t_ref: f64,
+    radius: f64,
+}
+
 /// The scheduler's state.
 struct Engine<'a> {
     phys: &'a Physics,
     flight: Flight,
     end: f64,
     shots: &'a mut [ShotState],
-    /// Time at which `shots[i].pos / vel` hold.
-    t_ref: Vec<f64>,
+    /// What the neighbour scans read of each shot, one cache line per shot (the states
+    /// are a few hundred bytes): `shots[i].pos / vel` (kept in step by `sync`), the time
+    /// they hold at, and the radius.
+    fly: Vec<Fly>,
     ver: Vec<u32>,
     /// Cluster slot of a shot in a cluster in progress, else `NONE`.
     owner: Vec<u32>,
@@ -450,7 +463,15 @@ impl<'a> Engine<'a> {
             phys,
             flight: Flight { g },
             end,
-            t_ref: shots.iter().map(|s| s.t_start.max(0.0)).collect(),
+            fly: shots
+                .iter()
+                .map(|s| Fly {
+                    pos: s.pos,
+                    vel: s.vel,
+                    t_ref: s.t_start.max(0.0),
+                    radius: s.body.radius,
+                })
+                .collect(),
             ver: vec![0; n],
             owner: vec![NONE; n],
             present: vec![false; n],
@@ -496,8 +517,16 @@ impl<'a> Engine<'a> {
     /// Free-flight state of shot `i` at `t` (not before its reference time).
     #[inline]
     fn state_at(&self, i: usize, t: f64) -> (Vec3, Vec3) {
-        let s = &self.shots[i];
-        self.flight.at(&s.pos, &s.vel, (t - self.t_ref[i]).max(0.0))
+        let f = &self.fly[i];
+        self.flight.at(&f.pos, &f.vel, (t - f.t_ref).max(0.0))
+    }
+
+    /// Copies shot `i`'s position and velocity into its `fly` entry (after any change).
+    #[inline]
+    fn sync(&mut self, i: usize) {
+        let f = &mut self.fly[i];
+        f.pos = self.shots[i].pos;
+        f.vel = self.shots[i].vel;
     }
 
     /// Upper bound of any shot's speed until the end.
@@ -552,7 +581,8 @@ impl<'a> Engine<'a> {
                         s.vel = v;
                         s.status = ShotStatus::LeftDomain;
                         s.t_stop = Some(ev.t);
-                        self.t_ref[a] = ev.t;
+                        self.fly[a].t_ref = ev.t;
+                        self.sync(a);
                         self.ver[a] += 1;
                         self.present[a] = false;
                         self.grid.remove(a);
@@ -584,11 +614,12 @@ impl<'a> Engine<'a> {
         // Free shots fly to the end.
         self.t_now = self.end;
         for i in 0..n {
-            if self.present[i] && self.owner[i] == NONE && self.t_ref[i] < self.end {
+            if self.present[i] && self.owner[i] == NONE && self.fly[i].t_ref < self.end {
                 let (p, v) = self.state_at(i, self.end);
                 self.shots[i].pos = p;
                 self.shots[i].vel = v;
-                self.t_ref[i] = self.end;
+                self.fly[i].t_ref = self.end;
+                self.sync(i);
             }
         }
         progress(1.0);
@@ -596,7 +627,7 @@ impl<'a> Engine<'a> {
 
     fn enter(&mut self, i: usize) {
         self.present[i] = true;
-        self.t_ref[i] = self.shots[i].t_start.max(0.0);
+        self.fly[i].t_ref = self.shots[i].t_start.max(0.0);
         let c = self.grid.cell_of(&self.shots[i].pos);
         self.grid.place(i, c);
     }
@@ -613,7 +644,7 @@ impl<'a> Engine<'a> {
             }
         }
         self.buf = nb;
-        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
         let (p, v, r) = (s.pos, s.vel, s.body.radius);
         if self.phys.contacts.specimen.is_some()
             && let Some(tau) = self.flight.down_through(p.z, v.z, r)
@@ -637,10 +668,10 @@ impl<'a> Engine<'a> {
     }
 
     fn predict_pair(&mut self, i: usize, j: usize) {
-        let t0 = self.t_ref[i].max(self.t_ref[j]);
+        let t0 = self.fly[i].t_ref.max(self.fly[j].t_ref);
         let (pi, vi) = self.state_at(i, t0);
         let (pj, vj) = self.state_at(j, t0);
-        let sigma = self.shots[i].body.radius + self.shots[j].body.radius;
+        let sigma = self.fly[i].radius + self.fly[j].radius;
         let dx = pj - pi;
         let touch = if dx.norm_squared() < sigma * sigma {
             // Overlapping free shots: a contact was missed. Count it, and let a cluster
@@ -664,7 +695,7 @@ impl<'a> Engine<'a> {
     /// The next cell face free shot `i` crosses (event `b` = axis * 2 + upwards).
     fn schedule_cross(&mut self, i: usize) {
         let c = self.grid.at[i];
-        let (t, s) = (self.t_ref[i], &self.shots[i]);
+        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
         let (p, v) = (s.pos, s.vel);
         let mut best = (f64::INFINITY, 0usize);
         for axis in 0..3 {
@@ -738,7 +769,7 @@ impl<'a> Engine<'a> {
         let back = tc / self.phys.contact_steps;
         let s = who
             .iter()
-            .map(|&i| self.t_ref[i])
+            .map(|&i| self.fly[i].t_ref)
             .fold(t_on - back, f64::max);
         let slot = self.free_slots.pop().unwrap_or_else(|| {
             self.clusters.push(None);
@@ -838,9 +869,9 @@ impl<'a> Engine<'a> {
             while scanned < cl.members.len() {
                 let m = cl.members[scanned];
                 scanned += 1;
-                let tm = self.t_ref[m].max(s);
+                let tm = self.fly[m].t_ref.max(s);
                 let (pm, vm) = self.state_at(m, tm);
-                let rm = self.shots[m].body.radius;
+                let rm = self.fly[m].radius;
                 let reach = rm + self.r_max + 2.0 * vb * (e - s) + SLACK * 2.0 * self.r_max;
                 found.clear();
                 self.grid.for_each_within(&pm, reach, |c| found.push(c));
@@ -848,8 +879,8 @@ impl<'a> Engine<'a> {
                     if !self.present[c] || self.mark[c] == st {
                         continue;
                     }
-                    let sigma = rm + self.shots[c].body.radius;
-                    let tc_ref = self.t_ref[c];
+                    let sigma = rm + self.fly[c].radius;
+                    let tc_ref = self.fly[c].t_ref;
                     // A shot resolved ahead (its cluster ended, or paused, after `s`) is
                     // taken on its free path from its own clock; before that, its
                     // cluster's checks covered the members' free paths. (A shot of a
@@ -987,7 +1018,7 @@ impl<'a> Engine<'a> {
         let mut starts: Vec<(Vec3, Vec3, f64)> = Vec::with_capacity(n);
         for &m in members {
             let mut c = self.shots[m].clone();
-            let tm = self.t_ref[m];
+            let tm = self.fly[m].t_ref;
             if tm <= s {
                 let (p, v) = self.state_at(m, s);
                 c.pos = p;
@@ -1147,7 +1178,7 @@ impl<'a> Engine<'a> {
             {
                 let m = members[k];
                 copies[k] = self.shots[m].clone();
-                t_end[k] = self.t_ref[m];
+                t_end[k] = self.fly[m].t_ref;
                 paths[k] = vec![(starts[k].2, starts[k].0), (e, self.state_at(m, e).0)];
                 unchanged[k] = true;
                 continue;
@@ -1167,7 +1198,7 @@ impl<'a> Engine<'a> {
                     if !shots.contains(&k) {
                         let m = members[k];
                         copies[k] = self.shots[m].clone();
-                        t_end[k] = self.t_ref[m];
+                        t_end[k] = self.fly[m].t_ref;
                         paths[k] = vec![(starts[k].2, starts[k].0), (e, self.state_at(m, e).0)];
                         unchanged[k] = true;
                     }
@@ -1241,8 +1272,8 @@ impl<'a> Engine<'a> {
                 continue;
             }
             let k = self.local[m] as usize;
-            let sigma = self.shots[c].body.radius + self.shots[m].body.radius;
-            let t0 = starts[k].2.max(self.t_ref[c]);
+            let sigma = self.fly[c].radius + self.fly[m].radius;
+            let t0 = starts[k].2.max(self.fly[c].t_ref);
             for &(t, pm) in &paths[k] {
                 if t < t0 {
                     continue;
@@ -1578,6 +1609,7 @@ impl<'a> Engine<'a> {
             self.v_max = self.v_max.max(c.vel.norm());
             let active = c.is_active();
             self.shots[m] = c;
+            self.sync(m);
             self.ver[m] += 1;
             self.owner[m] = NONE;
             if !active {
@@ -1585,8 +1617,8 @@ impl<'a> Engine<'a> {
                 self.grid.remove(m);
                 continue;
             }
-            if self.t_ref[m] < t_end[k] {
-                self.t_ref[m] = t_end[k];
+            if self.fly[m].t_ref < t_end[k] {
+                self.fly[m].t_ref = t_end[k];
             }
             let cell = self.grid.cell_of(&self.shots[m].pos);
             self.grid.place(m, cell);
@@ -1676,7 +1708,7 @@ impl<'a> Engine<'a> {
         }
         // Released shots fly free again.
         for (&m, _) in members.iter().zip(&unchanged).filter(|(_, u)| !**u) {
-            if self.present[m] && self.owner[m] == NONE && self.t_ref[m] < self.end {
+            if self.present[m] && self.owner[m] == NONE && self.fly[m].t_ref < self.end {
                 self.predict(m);
             }
         }
