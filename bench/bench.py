@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """peenflow benchmarks (never run as tests; numbers go to docs/performance.md).
 
-usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
+usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--effects]
 
   default     benchmarks (a)-(d) at 1 and 2 threads: wall time, particle-steps/s,
               contacts/s, wall time per simulated ms, peak memory (RSS of the process)
@@ -15,7 +15,7 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--effects]
               each round's matched ratio is printed, and the fastest run of each counts
   --liggghts-scale  the stream at LIGGGHTS' accuracy for N = 10,000, 50,000 and 200,000
               shots (the column widens with N as in stream.in: same volume fraction and
-              height), one run of each code per N, and the ratio per N (about 5 minutes)
+              height), one run of each code per N, and the ratio per N (about 8 minutes)
 
 The machine is shared and noisy: compare ratios measured in one session.
 """
@@ -131,12 +131,21 @@ def liggghts_loop_times(log):
     return [float(m.group(1)) for m in re.finditer(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)]
 
 
-def liggghts(tmp):
+# peenflow at LIGGGHTS' accuracy (checked by `liggghts` on single impacts).
+MATCHED = "[integrator]\ntolerance = 1e-4\n"
+
+
+def liggghts_inputs(tmp, names):
+    """Copies LIGGGHTS' input files `names` into tmp (exits if LIGGGHTS is missing)."""
     if not shutil.which("liggghts"):
         sys.exit("liggghts not found: apt-get install -y liggghts")
     inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
-    for f in ("stream.in", "dense.in"):
+    for f in names:
         shutil.copy(os.path.join(inputs, f), tmp)
+
+
+def liggghts(tmp):
+    liggghts_inputs(tmp, ("stream.in", "dense.in"))
     def liggghts_loop(name, args, timed):
         run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
         return sum(liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())[-timed:])
@@ -144,7 +153,7 @@ def liggghts(tmp):
     # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
     # (tolerance 1e-6), and at LIGGGHTS' accuracy (tolerance 1e-4), checked below on
     # head-on and oblique shot-shot collisions and on a shot-specimen impact.
-    matched = "[integrator]\ntolerance = 1e-4\n"
+    matched = MATCHED
     text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
     fast_scene = os.path.join(tmp, "pack_matched.toml")
     open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
@@ -290,12 +299,9 @@ nozzle_wall_contact = false
 
 def liggghts_scale(tmp):
     """The matched stream at growing N: does the ratio hold as the scene grows?"""
-    if not shutil.which("liggghts"):
-        sys.exit("liggghts not found: apt-get install -y liggghts")
-    inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
-    shutil.copy(os.path.join(inputs, "stream.in"), tmp)
+    liggghts_inputs(tmp, ("stream.in",))
     text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
-    text = text.replace("[effects]", "[integrator]\ntolerance = 1e-4\n[effects]")
+    text = text.replace("[effects]", MATCHED + "[effects]")
     print("| shots | column width mm | LIGGGHTS loop s | peenflow wall s | contacts | peenflow us per contact | LIGGGHTS / peenflow |")
     print("|---|---|---|---|---|---|---|")
     for n in (10_000, 50_000, 200_000):
