@@ -13,6 +13,7 @@ pub mod friction;
 pub mod hertz;
 pub mod pair;
 pub mod specimen;
+pub mod table;
 pub mod wall;
 
 pub use friction::Friction;

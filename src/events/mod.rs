@@ -73,6 +73,7 @@ pub mod queue;
 
 use crate::Vec3;
 use crate::contact::broad::CellList;
+use crate::contact::table::{self, ContactTable};
 use crate::contact::{PairContact, effective_mass, hertz};
 use crate::integrate::island::{
     self, IslandOutput, IslandPair, MIN_CONTACT_SPEED, Method, Physics, Scratch,
@@ -368,6 +369,9 @@ struct Engine<'a> {
     scratch: Scratch,
     /// Whether lone contacts take the lean path.
     lean: bool,
+    /// The tabulated impacts of the pair and the specimen law, where the lean path may
+    /// use them (frictionless, tolerance at least `table::FROM_TOLERANCE`).
+    tables: [Option<ContactTable>; 2],
     cells: CellList,
     buf: Vec<usize>,
 }
@@ -490,6 +494,17 @@ impl<'a> Engine<'a> {
             out: IslandOutput::default(),
             scratch: Scratch::default(),
             lean: true,
+            tables: {
+                let c = &phys.contacts;
+                let table = |law: Option<&crate::contact::HertzLaw>| {
+                    law.filter(|_| c.friction.is_none() && phys.tolerance >= table::FROM_TOLERANCE)
+                        .map(|l| ContactTable::new(l.damping))
+                };
+                [
+                    table(c.pair.as_ref().map(|p| &p.law)),
+                    table(c.specimen.as_ref().map(|s| &s.law)),
+                ]
+            },
             cells: CellList::default(),
             buf: Vec::new(),
             shots,
@@ -1512,6 +1527,7 @@ impl<'a> Engine<'a> {
         match bodies {
             [a, b] => binary::resolve(
                 &c.pair.as_ref()?.law,
+                self.tables[0].as_ref(),
                 mu(|f| f.shot),
                 &self.flight,
                 a,
@@ -1524,6 +1540,7 @@ impl<'a> Engine<'a> {
             ),
             [a] => binary::resolve_specimen(
                 &c.specimen.as_ref()?.law,
+                self.tables[1].as_ref(),
                 mu(|f| f.specimen),
                 &self.flight,
                 a,
