@@ -177,7 +177,7 @@ fn margin(alpha: f64, y: &[f64]) -> f64 {
 
 /// Solves one node: `(tau_k, (xi, xi', Phi) at the samples)`, or `None` if the contact
 /// does not come to its kink within 50 time units (it cannot, for the grid's range).
-pub fn solve(alpha: f64, q: f64, eps: f64) -> Option<[f64; VALUES]> {
+fn solve(alpha: f64, q: f64, eps: f64) -> Option<[f64; VALUES]> {
     let mut f = |_t: f64, y: &[f64], dy: &mut [f64]| {
         let xi = y[0];
         let force = if xi > 0.0 {

@@ -782,9 +782,26 @@ impl Contact<'_> {
         (self.onset + time * c.tau_kink < self.e).then_some((time, u * time, c))
     }
 
-    /// The time of sample `j` of course `c` at time scale `time`.
-    fn sample_time(&self, time: f64, c: &Course, j: usize) -> f64 {
-        self.onset + time * c.tau_kink * (j + 1) as f64 / SAMPLES as f64
+    /// Walks course `c` (time scale `time`): the states that `state` makes of its samples
+    /// go to `each`, in order, but the last (the kink), whose time and state it returns.
+    fn walk(
+        &self,
+        time: f64,
+        c: &Course,
+        state: impl Fn(f64, [f64; 3]) -> (Vec3, Vec3),
+        each: &mut dyn FnMut(f64, Vec3, Vec3),
+    ) -> (f64, Vec3, Vec3) {
+        let at = |j: usize| {
+            let fraction = (j + 1) as f64 / SAMPLES as f64; // 1 exactly at the kink
+            let t = self.onset + time * c.tau_kink * fraction;
+            let (x, v) = state(t, c.at[j]);
+            (t, x, v)
+        };
+        for j in 0..SAMPLES - 1 {
+            let (t, x, v) = at(j);
+            each(t, x, v);
+        }
+        at(SAMPLES - 1)
     }
 
     /// A pair touching at distance `sigma` with relative position `r_on` and velocity
@@ -816,12 +833,7 @@ impl Contact<'_> {
             let (er, et) = (n0 * co + t_hat * s, t_hat * co - n0 * s);
             (er * (sigma * shrink), er * (-u * rate) + et * (w / shrink))
         };
-        for j in 0..SAMPLES - 1 {
-            let (r, v) = rel(c.at[j]);
-            each(self.sample_time(time, &c, j), r, v);
-        }
-        let (r, v) = rel(c.at[SAMPLES - 1]);
-        Some((self.onset + time * c.tau_kink, r, v))
+        Some(self.walk(time, &c, |_, x| rel(x), each))
     }
 
     /// A shot of radius `r` touching the specimen at `(p, v)` under gravity `g`: its
@@ -844,14 +856,7 @@ impl Contact<'_> {
                 Vec3::new(v.x, v.y, -u * rate),
             )
         };
-        for j in 0..SAMPLES - 1 {
-            let t = self.sample_time(time, &c, j);
-            let (q, w) = at(t, c.at[j]);
-            each(t, q, w);
-        }
-        let t = self.onset + time * c.tau_kink;
-        let (q, w) = at(t, c.at[SAMPLES - 1]);
-        Some((t, q, w))
+        Some(self.walk(time, &c, at, each))
     }
 }
 
