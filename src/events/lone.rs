@@ -133,13 +133,13 @@ impl Engine<'_> {
             self.grid
                 .for_each_within(&start.pos, reach, |k| found.push(k));
             for &k in &found {
-                if who.contains(&k) || !self.present[k] {
+                if who.contains(&k) || !self.slot[k].present {
                     continue;
                 }
                 // What is known of it: free from its clock until its next touch; a
                 // shot of a cluster in progress only where its chunk ended; outside
                 // that, within the speed bound.
-                let (clock, owned) = (self.fly[k].t_ref, self.owner[k] != NONE);
+                let (clock, owned) = (self.fly[k].t_ref, self.slot[k].owner != NONE);
                 let nc = self.next_change[k].without(who);
                 let until = if owned {
                     clock
@@ -185,9 +185,9 @@ impl Engine<'_> {
         for (q, &m) in who.iter().enumerate() {
             o.apply(q, &mut self.shots[m], &mut self.out.impacts);
             self.sync(m);
-            self.owner[m] = NONE;
+            self.slot[m].owner = NONE;
             self.fly[m].t_ref = o.end;
-            self.ver[m] += 1;
+            self.slot[m].ver += 1;
             self.v_max = self.v_max.max(self.shots[m].vel.norm());
             let cell = self.grid.cell_of(&self.shots[m].pos);
             self.grid.place(m, cell);

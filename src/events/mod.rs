@@ -333,6 +333,17 @@ struct Fly {
     radius: f64,
 }
 
+/// A shot's standing in the event loop.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    /// Bumped whenever the shot's path changes: events predicted before are stale.
+    ver: u32,
+    /// Cluster slot of a shot in a cluster in progress, else `NONE`.
+    owner: u32,
+    /// Entered, active and in the grid.
+    present: bool,
+}
+
 /// The scheduler's state.
 struct Engine<'a> {
     phys: &'a Physics,
@@ -343,11 +354,9 @@ struct Engine<'a> {
     /// are a few hundred bytes): `shots[i].pos / vel` (kept in step by `sync`), the time
     /// they hold at, and the radius.
     fly: Vec<Fly>,
-    ver: Vec<u32>,
-    /// Cluster slot of a shot in a cluster in progress, else `NONE`.
-    owner: Vec<u32>,
-    /// Entered, active and in the grid.
-    present: Vec<bool>,
+    /// What the event loop checks of a shot for every event it pops and every shot a
+    /// scan finds, side by side (one memory access instead of three).
+    slot: Vec<Slot>,
     /// Earliest pending events that change the shot's path (touches).
     next_change: Vec<Pending>,
     /// Membership stamps for cluster gathering.
@@ -476,9 +485,14 @@ impl<'a> Engine<'a> {
                     radius: s.body.radius,
                 })
                 .collect(),
-            ver: vec![0; n],
-            owner: vec![NONE; n],
-            present: vec![false; n],
+            slot: vec![
+                Slot {
+                    ver: 0,
+                    owner: NONE,
+                    present: false,
+                };
+                n
+            ],
             next_change: vec![Pending::NONE; n],
             mark: vec![0; n],
             local: vec![0; n],
@@ -513,8 +527,12 @@ impl<'a> Engine<'a> {
 
     fn push(&mut self, t: f64, kind: Kind, a: usize, b: usize) {
         let (va, vb) = (
-            self.ver[a],
-            if kind == Kind::Touch { self.ver[b] } else { 0 },
+            self.slot[a].ver,
+            if kind == Kind::Touch {
+                self.slot[b].ver
+            } else {
+                0
+            },
         );
         self.queue.push(
             t,
@@ -562,7 +580,7 @@ impl<'a> Engine<'a> {
             }
         }
         for i in 0..n {
-            if self.present[i] {
+            if self.slot[i].present {
                 self.predict(i);
             }
         }
@@ -577,11 +595,12 @@ impl<'a> Engine<'a> {
                 progress(self.t_now / self.end);
             }
             let (a, b) = (ev.a as usize, ev.b as usize);
-            let free_valid =
-                |e: &Self, i: usize, v: u32| e.present[i] && e.owner[i] == NONE && e.ver[i] == v;
+            let free_valid = |e: &Self, i: usize, v: u32| {
+                e.slot[i].present && e.slot[i].owner == NONE && e.slot[i].ver == v
+            };
             match ev.kind {
                 Kind::Enter => {
-                    if self.shots[a].is_active() && !self.present[a] {
+                    if self.shots[a].is_active() && !self.slot[a].present {
                         self.out.work.flight_events += 1;
                         self.enter(a);
                         self.predict(a);
@@ -598,8 +617,8 @@ impl<'a> Engine<'a> {
                         s.t_stop = Some(ev.t);
                         self.fly[a].t_ref = ev.t;
                         self.sync(a);
-                        self.ver[a] += 1;
-                        self.present[a] = false;
+                        self.slot[a].ver += 1;
+                        self.slot[a].present = false;
                         self.grid.remove(a);
                     }
                 }
@@ -629,7 +648,7 @@ impl<'a> Engine<'a> {
         // Free shots fly to the end.
         self.t_now = self.end;
         for i in 0..n {
-            if self.present[i] && self.owner[i] == NONE && self.fly[i].t_ref < self.end {
+            if self.slot[i].present && self.slot[i].owner == NONE && self.fly[i].t_ref < self.end {
                 let (p, v) = self.state_at(i, self.end);
                 self.shots[i].pos = p;
                 self.shots[i].vel = v;
@@ -641,7 +660,7 @@ impl<'a> Engine<'a> {
     }
 
     fn enter(&mut self, i: usize) {
-        self.present[i] = true;
+        self.slot[i].present = true;
         self.fly[i].t_ref = self.shots[i].t_start.max(0.0);
         let c = self.grid.cell_of(&self.shots[i].pos);
         self.grid.place(i, c);
@@ -654,7 +673,7 @@ impl<'a> Engine<'a> {
         nb.clear();
         self.grid.for_each_near(self.grid.at[i], |j| nb.push(j));
         for &j in &nb {
-            if j != i && self.present[j] && self.owner[j] == NONE {
+            if j != i && self.slot[j].present && self.slot[j].owner == NONE {
                 self.predict_pair(i, j);
             }
         }
@@ -765,7 +784,7 @@ impl<'a> Engine<'a> {
             nb.clear();
             self.grid.for_each_in(lo, hi, |j| nb.push(j));
             for &j in &nb {
-                if j != i && self.present[j] && self.owner[j] == NONE {
+                if j != i && self.slot[j].present && self.slot[j].owner == NONE {
                     self.predict_pair(i, j);
                 }
             }
@@ -791,8 +810,8 @@ impl<'a> Engine<'a> {
             self.clusters.len() - 1
         });
         for &i in who {
-            self.owner[i] = slot as u32;
-            self.ver[i] += 1;
+            self.slot[i].owner = slot as u32;
+            self.slot[i].ver += 1;
         }
         self.clusters[slot] = Some(Cluster {
             members: who.to_vec(),
@@ -891,7 +910,7 @@ impl<'a> Engine<'a> {
                 found.clear();
                 self.grid.for_each_within(&pm, reach, |c| found.push(c));
                 for &c in &found {
-                    if !self.present[c] || self.mark[c] == st {
+                    if !self.slot[c].present || self.mark[c] == st {
                         continue;
                     }
                     let sigma = rm + self.fly[c].radius;
@@ -911,7 +930,7 @@ impl<'a> Engine<'a> {
                     // Joins now if it comes near before the member's contact starts (the
                     // member's free path is exact until then); later meetings, on the
                     // member's changed path, are found by the verification.
-                    if (t_a <= cl.onset || self.owner[c] != NONE)
+                    if (t_a <= cl.onset || self.slot[c].owner != NONE)
                         && closest_approach(&dx, &dv, (cl.onset - t_a).max(0.0))
                             < sigma * (1.0 + SLACK)
                     {
@@ -994,7 +1013,7 @@ impl<'a> Engine<'a> {
 
     /// Adds shot `c` (and, if it belongs to another cluster, that whole cluster) to `cl`.
     fn join(&mut self, cl: &mut Cluster, c: usize, st: u64) {
-        let oc = self.owner[c];
+        let oc = self.slot[c].owner;
         if oc != NONE && self.clusters[oc as usize].is_some() {
             let other = self.clusters[oc as usize]
                 .take()
@@ -1620,17 +1639,17 @@ impl<'a> Engine<'a> {
         let continues = e < self.end && held.iter().any(|&h| h);
         for (k, (c, &m)) in copies.into_iter().zip(&members).enumerate() {
             if unchanged[k] {
-                self.owner[m] = NONE;
+                self.slot[m].owner = NONE;
                 continue;
             }
             self.v_max = self.v_max.max(c.vel.norm());
             let active = c.is_active();
             self.shots[m] = c;
             self.sync(m);
-            self.ver[m] += 1;
-            self.owner[m] = NONE;
+            self.slot[m].ver += 1;
+            self.slot[m].owner = NONE;
             if !active {
-                self.present[m] = false;
+                self.slot[m].present = false;
                 self.grid.remove(m);
                 continue;
             }
@@ -1670,7 +1689,7 @@ impl<'a> Engine<'a> {
                     self.free_slots.push(next);
                 }
                 let m = members[k];
-                self.owner[m] = gs as u32;
+                self.slot[m].owner = gs as u32;
                 self.next_change[m] = Pending {
                     t: e,
                     with: m as u32,
@@ -1697,7 +1716,7 @@ impl<'a> Engine<'a> {
                 else {
                     continue;
                 };
-                let o = self.owner[m];
+                let o = self.slot[m].owner;
                 if o != NONE
                     && let Some(c) = self.clusters[o as usize].as_mut()
                 {
@@ -1725,7 +1744,7 @@ impl<'a> Engine<'a> {
         }
         // Released shots fly free again.
         for (&m, _) in members.iter().zip(&unchanged).filter(|(_, u)| !**u) {
-            if self.present[m] && self.owner[m] == NONE && self.fly[m].t_ref < self.end {
+            if self.slot[m].present && self.slot[m].owner == NONE && self.fly[m].t_ref < self.end {
                 self.predict(m);
             }
         }

@@ -1,4 +1,4 @@
-//! The event queue: a calendar queue (time buckets, each a small binary heap).
+//! The event queue: a calendar queue (time buckets; the current one a binary heap).
 //!
 //! Every event of a run falls in `[0, end]`, so the buckets tile that span and nothing
 //! wraps around. An event goes to the bucket of its time (an event in the past, to the
@@ -13,12 +13,21 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 /// A min-queue of items ordered by `Ord`, keyed for bucketing by a time in `[0, end]`.
+///
+/// Only the current bucket is a heap; a later bucket is a plain list that becomes the
+/// heap when it is reached (heapified in linear time). A push into the future is then
+/// one append, where a heap push would sift through storage that is cold by the time
+/// its bucket comes up (measured: the 200,000-shot pack stream spent 10.7 % of its run
+/// in heap pushes).
 #[derive(Debug)]
 pub struct Calendar<T: Ord> {
-    buckets: Vec<BinaryHeap<Reverse<T>>>,
+    /// Later buckets, unordered; `buckets[current]` is empty (its items are in `heap`).
+    buckets: Vec<Vec<Reverse<T>>>,
+    /// The current bucket's items, and items pushed with times before its end.
+    heap: BinaryHeap<Reverse<T>>,
     /// Bucket width, s.
     width: f64,
-    /// First bucket that may hold items.
+    /// The bucket `heap` holds.
     current: usize,
     len: usize,
 }
@@ -29,7 +38,8 @@ impl<T: Ord> Calendar<T> {
         let nb = buckets.max(1);
         let width = if end > 0.0 { end / nb as f64 } else { 1.0 };
         Calendar {
-            buckets: (0..nb).map(|_| BinaryHeap::new()).collect(),
+            buckets: (0..nb).map(|_| Vec::new()).collect(),
+            heap: BinaryHeap::new(),
             width,
             current: 0,
             len: 0,
@@ -53,7 +63,11 @@ impl<T: Ord> Calendar<T> {
         } else {
             ((t / self.width).max(0.0) as usize).min(self.buckets.len() - 1)
         };
-        self.buckets[b.max(self.current)].push(Reverse(item));
+        if b <= self.current {
+            self.heap.push(Reverse(item));
+        } else {
+            self.buckets[b].push(Reverse(item));
+        }
         self.len += 1;
     }
 
@@ -62,14 +76,14 @@ impl<T: Ord> Calendar<T> {
         if self.len == 0 {
             return None;
         }
-        while self.buckets[self.current].is_empty() {
-            // A bucket left behind is never used again: free its storage (memory then
-            // follows the queued events, as with one heap).
-            self.buckets[self.current] = BinaryHeap::new();
+        while self.heap.is_empty() {
+            // Reach the next bucket: its list becomes the heap (a bucket left behind is
+            // never used again, so memory follows the queued events, as with one heap).
             self.current += 1;
+            self.heap = BinaryHeap::from(std::mem::take(&mut self.buckets[self.current]));
         }
         self.len -= 1;
-        self.buckets[self.current].pop().map(|Reverse(x)| x)
+        self.heap.pop().map(|Reverse(x)| x)
     }
 }
 
