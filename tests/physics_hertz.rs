@@ -283,11 +283,15 @@ fn shot_shot_collisions_conserve_momentum_and_undamped_energy() {
 /// schedulers) at the default floor of 10 steps per contact, at loose tolerances too: a
 /// head-on 70 m/s impact on the specimen (restitution 0.7) and between two shots (0.9),
 /// against the requested restitution, which the Tsuji law returns exactly. Specimen:
-/// within 2e-5 at every tolerance (measured 0.3e-6 to 1.0e-5; before session 6, where
-/// the second step after the onset jumped to a whole contact step, 5.4e-4 at tolerances
-/// 1e-3 to 1e-5). Pair: within twice the tolerance, or 5e-6 (before session 6, when a
-/// step could carry a pair past both its kink and its parting unlocated and the touch
-/// itself was not located: 5.4e-3 at 1e-3, 2.3e-4 at 1e-4, 3.4e-5 at 1e-6).
+/// within a fifth of the tolerance, or 2e-5 (measured since session 13, where the first
+/// step after the touch is corrected and grows with the tolerance: 1.4e-4, 1.6e-6,
+/// 4.7e-6, 2.3e-6, 7e-8 at tolerances 1e-3 ... 1e-8; with the fixed 1 % first step
+/// before, 0.3e-6 to 1.0e-5; before session 6, where the second step after the onset
+/// jumped to a whole contact step, 5.4e-4 at tolerances 1e-3 to 1e-5). Pair: within
+/// twice the tolerance, or 5e-6 (measured 8.3e-4, 1.7e-5, 1.2e-6, 9.2e-7, 0; before
+/// session 6, when a step could carry a pair past both its kink and its parting
+/// unlocated and the touch itself was not located: 5.4e-3 at 1e-3, 2.3e-4 at 1e-4,
+/// 3.4e-5 at 1e-6).
 #[test]
 fn impact_rebounds_are_accurate_at_loose_tolerances() {
     use peenflow::sim::{Scheduler, Simulation};
@@ -307,7 +311,7 @@ fn impact_rebounds_are_accurate_at_loose_tolerances() {
             "specimen, tolerance {tol:e}: restitution {e:.8} ({})",
             out.scheduler
         );
-        assert!(rel(e, 0.7) < 2e-5, "{e}");
+        assert!(rel(e, 0.7) < (0.2 * tol).max(2e-5), "{e}");
         let mut phys = contact_physics(None, Some(0.9));
         phys.tolerance = tol;
         phys.contact_steps = 10.0;
@@ -328,9 +332,12 @@ fn impact_rebounds_are_accurate_at_loose_tolerances() {
 }
 
 /// The same for a shot hitting the nozzle bore at 20 m/s (restitution 0.7, no air): within
-/// the tolerance, or 5e-6 (measured 7e-4, 2.1e-6, 3.5e-6, 3.3e-6, 1.6e-7 at tolerances
-/// 1e-3 ... 1e-8; before session 6, when neither the wall touch nor its kink was located,
-/// 3.8e-3, 1.2e-5, 2.9e-4, 5.9e-7, 3.4e-6).
+/// the tolerance, or 1e-5 (measured since session 13: 9.3e-4, 3.0e-5, 8.7e-6, 6.3e-6,
+/// 6e-8 at tolerances 1e-3 ... 1e-8). The 6e-6 at 1e-5 and 1e-6 is the in-contact
+/// steps' (10 per contact: 20 give 5.5e-7, 40 give 6e-8; the error estimate underrates
+/// it); until session 12 an uncorrected first step of opposite sign hid half of it
+/// (7e-4, 2.1e-6, 3.5e-6, 3.3e-6, 1.6e-7). Before session 6, when neither the wall touch
+/// nor its kink was located: 3.8e-3, 1.2e-5, 2.9e-4, 5.9e-7, 3.4e-6.
 #[test]
 fn nozzle_wall_rebounds_are_accurate_at_loose_tolerances() {
     use peenflow::scene::Scene;
@@ -347,7 +354,7 @@ fn nozzle_wall_rebounds_are_accurate_at_loose_tolerances() {
         assert_eq!(s.wall_contacts, 1);
         let e = -s.vel.x / 20.0;
         println!("wall, tolerance {tol:e}: restitution {e:.8}");
-        assert!(rel(e, 0.7) < tol.max(5e-6), "{e}");
+        assert!(rel(e, 0.7) < tol.max(1e-5), "{e}");
         assert!(s.vel.y.abs() < 1e-9 && s.vel.z.abs() < 1e-9);
     }
 }

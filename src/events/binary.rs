@@ -37,8 +37,10 @@ use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::table::{ContactTable, Course, SAMPLES};
 use crate::contact::{PairContact, effective_mass};
 use crate::integrate::dopri::{DenseStep, Dopri5};
-use crate::integrate::island::{MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_crossing_guided};
-use crate::integrate::vec_at;
+use crate::integrate::island::{
+    AT_ONSET, MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_contact_step, first_crossing_guided,
+};
+use crate::integrate::{add_at, vec_at};
 
 use super::flight::{Flight, closest_approach, pair_touch};
 use crate::counters::WorkCounters;
@@ -251,7 +253,15 @@ struct Phase<'a, R, M, O> {
     /// Hertz duration of the contact, s, and its onset, s.
     tc: f64,
     onset: f64,
+    /// Frictionless: adds to a step that starts `a` (s) after the touch and lasts `h` (s)
+    /// what its quadrature missed of the force's start (`HertzLaw::onset_correction`),
+    /// given the states before and after it. With friction (whose tangential force
+    /// starts the same way) `None`: the first step is then short instead.
+    correct: Option<&'a Correction<'a>>,
 }
+
+/// See [`Phase::correct`]: `(a, h, y0, y1)`.
+type Correction<'a> = dyn Fn(f64, f64, &[f64], &mut [f64]) + 'a;
 
 impl<R, M, O> Phase<'_, R, M, O>
 where
@@ -279,12 +289,23 @@ where
         // A fresh contact pushes from the touch on; one in progress may be past its kink.
         let mut pushing = pushes || (self.margin)(y) > 0.0;
         let (mut y_new, mut err) = ([0.0; N], [0.0; N]);
-        // The first step after the touch is short (the dashpot's delta^(1/4)), as in the
-        // island integrator; a contact in progress starts at the contact step.
-        let mut h = if *t - self.onset < ONSET_STEP * h_cap {
-            ONSET_STEP * h_cap
-        } else {
+        // The first step after the touch is corrected and `first_contact_step` long, or
+        // without a correction short (the dashpot's delta^(1/4)), as in the island
+        // integrator; a contact in progress starts at the contact step.
+        let mut h = if *t - self.onset >= ONSET_STEP * h_cap {
             h_cap
+        } else if self.correct.is_some() {
+            first_contact_step(self.tc, self.set.contact_steps, tol)
+        } else {
+            ONSET_STEP * h_cap
+        };
+        // Steps starting within a contact step of the touch are corrected.
+        let correct = |t: f64, h: f64, y: &[f64], y_new: &mut [f64]| {
+            if let Some(c) = self.correct
+                && t - self.onset < h_cap
+            {
+                c(t - self.onset, h, y, y_new);
+            }
         };
         // The stages on the stack: the loops over `N` values unroll.
         let mut fixed = Dopri5::<[f64; N]>::fixed();
@@ -317,6 +338,7 @@ where
             }
             let en = loop {
                 out.rhs += u64::from(dopri.step(&mut f, *t, y, h, &mut y_new, &mut err));
+                correct(*t, h, y, &mut y_new);
                 let en = if y_new.iter().all(|v| v.is_finite()) {
                     error_norm(y, &err)
                 } else {
@@ -353,6 +375,7 @@ where
                     },
                     &mut |c| {
                         out.rhs += u64::from(dopri.step(&mut f, *t, y, c, &mut y_new, &mut err));
+                        correct(*t, c, y, &mut y_new);
                         out.rejected += 1;
                         (self.margin)(&y_new)
                     },
@@ -362,13 +385,19 @@ where
                     out.rejected -= 1;
                 } else if hi != h {
                     out.rhs += u64::from(dopri.step(&mut f, *t, y, hi, &mut y_new, &mut err));
+                    correct(*t, hi, y, &mut y_new);
                 }
                 h = hi;
             }
             out.steps += 1;
+            // The last stage saw the state before the correction of a step from the touch.
+            let stale = self.correct.is_some() && *t - self.onset <= AT_ONSET * self.tc;
             *y = y_new;
             *t = if lands && h == full { e } else { *t + h };
             dopri.accept_fsal();
+            if stale {
+                dopri.invalidate();
+            }
             let overlap = (self.overlap)(y);
             if overlap > self.depth_limit {
                 return None; // too deep: the island integrator stops it with the message
@@ -674,6 +703,17 @@ pub fn resolve(
     let r_min = a.radius.min(b.radius);
     let spins = mu > 0.0;
     let radii = [a.radius, b.radius];
+    let v_impact = hertz::impact_speed(m_eff, k, tc);
+    let correct = |at: f64, h: f64, y0: &[f64], y1: &mut [f64]| {
+        let r = vec_at(y0, 0);
+        let d = r.norm();
+        if d > 0.0 {
+            let n = r / d;
+            let (dx, dv) = law.onset_correction(k, m_eff, v_impact, at, h);
+            add_at(y1, 0, &(n * (dx / m_eff)));
+            add_at(y1, 3, &(n * (dv / m_eff)));
+        }
+    };
     let phase = Phase {
         rhs: &rhs,
         margin: &margin,
@@ -684,6 +724,7 @@ pub fn resolve(
         set,
         tc,
         onset,
+        correct: if spins { None } else { Some(&correct) },
     };
     let (wa, wb) = (a.omega, b.omega);
     let mut y = [
@@ -952,6 +993,12 @@ pub fn resolve_specimen(
     };
     let margin = |y: &[f64]| law.unloading_margin(k, m, r - y[2], -y[5]);
     let overlap = |y: &[f64]| r - y[2];
+    let v_impact = hertz::impact_speed(m, k, tc);
+    let correct = |at: f64, h: f64, _y0: &[f64], y1: &mut [f64]| {
+        let (dx, dv) = law.onset_correction(k, m, v_impact, at, h);
+        y1[2] += dx / m;
+        y1[5] += dv / m;
+    };
     let phase = Phase {
         rhs: &rhs,
         margin: &margin,
@@ -962,6 +1009,7 @@ pub fn resolve_specimen(
         set,
         tc,
         onset,
+        correct: if mu > 0.0 { None } else { Some(&correct) },
     };
     let w = a.omega;
     let mut y = [

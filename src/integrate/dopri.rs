@@ -56,6 +56,41 @@ const D: [f64; 7] = [
     69997945.0 / 29380423.0,
 ];
 
+/// How a step's fifth-order solution integrates the forces `s^(1/4)` and `s^(3/2)`
+/// that start a Hertz contact (`s` measured from a touch `r` step lengths before the
+/// step's start; steps of length 1): for each, the velocity's quadrature
+/// `sum_i b_i (r + c_i)^p` and the position's `sum_j (sum_i b_i a_ij) (r + c_j)^p`. The
+/// contact law compares them with the exact integrals to correct the steps that follow
+/// a touch, where the force is not smooth.
+pub fn start_quadrature(r: f64) -> [(f64, f64); 2] {
+    // sum_i b_i a_ij: the position's weights of the stages.
+    const BB: [f64; 6] = {
+        let b = &A[6];
+        let mut bb = [0.0; 6];
+        let mut j = 0;
+        while j < 6 {
+            let mut i = j + 1;
+            while i < 6 {
+                bb[j] += b[i] * A[i][j];
+                i += 1;
+            }
+            j += 1;
+        }
+        bb
+    };
+    let b = &A[6];
+    let mut q = [(0.0, 0.0); 2];
+    for j in 0..6 {
+        let s = r + C[j];
+        let sq = s.sqrt();
+        for (k, sp) in [sq.sqrt(), s * sq].into_iter().enumerate() {
+            q[k].0 += b[j] * sp;
+            q[k].1 += BB[j] * sp;
+        }
+    }
+    q
+}
+
 /// One accepted step `[t0, t0 + h]` with its dense output: the state at any time inside.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct DenseStep {
