@@ -18,8 +18,8 @@
 //!   misses. Without friction, the steps within a contact step of a touch get what
 //!   their quadrature missed of that start added (`HertzLaw::onset_correction`), and
 //!   the first is as long as the tolerance allows (`first_contact_step`: `t_c / 24` at
-//!   1e-4, `t_c / 126` at 1e-6); with friction the first is 1 % of a contact step, and
-//!   steps grow at most four-fold from there.
+//!   1e-4, `t_c / 126` at 1e-6); with friction the first is 1 % of a contact step. The
+//!   next steps are at most four times the time since the touch.
 //!
 //! Reads shot states, writes them back, and appends impacts and run events.
 
@@ -239,6 +239,24 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// Whether a contact's start is corrected (`HertzLaw::onset_correction`): without
+    /// friction there (`mu` picks the contact's coefficient; zero counts as none).
+    fn smooth_start(&self, mu: fn(&friction::Friction) -> f64) -> bool {
+        self.phys
+            .contacts
+            .friction
+            .as_ref()
+            .is_none_or(|f| mu(f) == 0.0)
+    }
+
+    /// Whether a contact of Hertz time `tc` that touched at `onset` is an impact still
+    /// within a contact step of its touch at `t` (closing speed at least
+    /// `RAMP_MIN_SPEED` at the onset, read back from `tc ~ v^(-1/5)`).
+    fn fresh_impact(&self, t: f64, tc: f64, onset: f64, m_eff: f64, k: f64) -> bool {
+        t - onset < tc / self.phys.contact_steps
+            && hertz::contact_time(m_eff, k, RAMP_MIN_SPEED) > tc
+    }
+
     /// Right-hand side: `dy = (v, a)` for every member.
     fn rhs(
         &self,
@@ -836,9 +854,9 @@ impl Ctx<'_> {
         changed
     }
 
-    /// Step cap (s) from contacts in progress and contacts being approached, and whether
-    /// the step starts on an impact's touch (its result is then corrected by
-    /// [`Ctx::correct_onsets`]).
+    /// Step cap (s) from contacts in progress and contacts being approached, and the
+    /// frictionless impacts that touched within a contact step before `t` or at `t`
+    /// (the step's result is then corrected by [`Ctx::correct_onsets`]).
     ///
     /// An impact is resolved with `contact_steps` steps per Hertz duration. A contact that
     /// has lasted more than three Hertz durations is persistent (a shot resting or
@@ -856,9 +874,7 @@ impl Ctx<'_> {
         let n = self.phys.contact_steps;
         let mut cap = f64::INFINITY;
         let onsets = std::cell::Cell::new(Onsets::None);
-        // Corrected: contacts without friction (a zero coefficient counts as none).
-        let smooth =
-            |mu: fn(&friction::Friction) -> f64| c.friction.as_ref().is_none_or(|f| mu(f) == 0.0);
+        let smooth = |mu| self.smooth_start(mu);
         let in_contact =
             |tc: f64, onset: f64, overlap: f64, m_eff: f64, k: f64, corrected: bool| -> f64 {
                 // Right after an onset: the dashpot's delta^(1/4) makes the force's slope
@@ -876,7 +892,7 @@ impl Ctx<'_> {
                 // `tc ~ v^(-1/5)`): the contacts of a resting pile open and close at
                 // millimetres per second, where the start costs nothing in accuracy and a
                 // ramp would cost every member of its island steps.
-                if t - onset < tc / n && hertz::contact_time(m_eff, k, RAMP_MIN_SPEED) > tc {
+                if self.fresh_impact(t, tc, onset, m_eff, k) {
                     if corrected {
                         onsets.set(onsets.get().max(Onsets::Recent));
                         if t - onset <= AT_ONSET * tc {
@@ -1006,9 +1022,10 @@ impl Ctx<'_> {
         (cap, onsets.get())
     }
 
-    /// Adds to the step `(t, y0) -> (t + h, y1)` what its quadrature missed of the
-    /// contacts that touched at `t` (impacts; `HertzLaw::onset_correction`), along each
-    /// contact's normal at `t`: the contacts `contact_cap` reports in its [`Onsets`].
+    /// Adds to the step `(t, y0) -> (t + h, y1)` what its quadrature missed of the start
+    /// of the contacts that touched within a contact step before `t` (frictionless
+    /// impacts; `HertzLaw::onset_correction`), along each contact's normal at `t`: the
+    /// contacts `contact_cap` reports in its [`Onsets`].
     #[allow(clippy::too_many_arguments)]
     fn correct_onsets(
         &self,
@@ -1020,17 +1037,12 @@ impl Ctx<'_> {
         y1: &mut [f64],
     ) {
         let c = &self.phys.contacts;
-        let n = self.phys.contact_steps;
-        let smooth =
-            |mu: fn(&friction::Friction) -> f64| c.friction.as_ref().is_none_or(|f| mu(f) == 0.0);
         let (sp_ok, wall_ok, pair_ok) = (
-            smooth(|f| f.specimen),
-            smooth(|f| f.wall),
-            smooth(|f| f.shot),
+            self.smooth_start(|f| f.specimen),
+            self.smooth_start(|f| f.wall),
+            self.smooth_start(|f| f.shot),
         );
-        let fresh = |tc: f64, onset: f64, m_eff: f64, k: f64| {
-            t - onset < tc / n && hertz::contact_time(m_eff, k, RAMP_MIN_SPEED) > tc
-        };
+        let fresh = |tc, onset, m_eff, k| self.fresh_impact(t, tc, onset, m_eff, k);
         let mut push = |i: usize, dir: &Vec3, mass: f64, (dx, dv): (f64, f64)| {
             add_at(y1, 6 * i, &(dir * (dx / mass)));
             add_acc(y1, i, &(dir * (dv / mass)));
@@ -1345,7 +1357,7 @@ const ONSET_ORDER: f64 = 2.8;
 /// Length (s) of the step that starts on an impact's touch and is corrected by
 /// `HertzLaw::onset_correction` (Hertz time `tc`, `n` steps per contact): the step whose
 /// error model (`ONSET_ERROR`) meets the tolerance, between `ONSET_STEP` and one contact
-/// step. At tolerance 1e-4 it is `t_c / 24`, at 1e-6 `t_c / 120`.
+/// step. At tolerance 1e-4 it is `t_c / 24`, at 1e-6 `t_c / 126`.
 pub(crate) fn first_contact_step(tc: f64, n: f64, tolerance: f64) -> f64 {
     (0.1 * tc * (tolerance / ONSET_ERROR).powf(1.0 / ONSET_ORDER))
         .clamp(ONSET_STEP * tc / n, tc / n)
