@@ -136,7 +136,16 @@ where
                 });
             c.draw_series(p.iter().map(|&q| Circle::new(q, 4, color.filled())))?;
         }
+        let norm = |v: f64, lo: f64, hi: f64| (v / lo).ln() / (hi / lo).ln();
+        let curves: Vec<Vec<(f64, f64)>> = series
+            .iter()
+            .map(|s| {
+                let p = s.points.iter().filter(|p| p.0 > 0.0 && p.1 > 0.0);
+                p.map(|p| (norm(p.0, x0, x1), norm(p.1, y0, y1))).collect()
+            })
+            .collect();
         c.configure_series_labels()
+            .position(legend_corner(&curves))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 15))
@@ -239,6 +248,40 @@ fn both(stem: &Path, f: &dyn Fn(&Path, bool) -> DResult) -> Result<(), PlotError
         })?;
     }
     Ok(())
+}
+
+/// The first corner of the plot (upper right, upper left, lower right, lower left) that
+/// no curve passes through, for the legend (curves in coordinates normalised to
+/// `[0, 1]` over the axes); the middle of the right side if every corner is taken.
+fn legend_corner(curves: &[Vec<(f64, f64)>]) -> SeriesLabelPosition {
+    let corners = [
+        (SeriesLabelPosition::UpperRight, (0.6, 1.0), (0.8, 1.0)),
+        (SeriesLabelPosition::UpperLeft, (0.0, 0.4), (0.8, 1.0)),
+        (SeriesLabelPosition::LowerRight, (0.6, 1.0), (0.0, 0.2)),
+        (SeriesLabelPosition::LowerLeft, (0.0, 0.4), (0.0, 0.2)),
+    ];
+    let inside = |(u, v): (f64, f64), (ulo, uhi): (f64, f64), (vlo, vhi): (f64, f64)| {
+        u >= ulo && u <= uhi && v >= vlo && v <= vhi
+    };
+    for (pos, us, vs) in corners {
+        let hit = curves.iter().any(|c| {
+            c.iter().any(|&p| inside(p, us, vs))
+                || c.windows(2).any(|w| {
+                    (1..20).any(|k| {
+                        let f = k as f64 / 20.0;
+                        let p = (
+                            w[0].0 + f * (w[1].0 - w[0].0),
+                            w[0].1 + f * (w[1].1 - w[0].1),
+                        );
+                        inside(p, us, vs)
+                    })
+                })
+        });
+        if !hit {
+            return pos;
+        }
+    }
+    SeriesLabelPosition::MiddleRight
 }
 
 /// Writes `stem.png` and `stem.svg`: curves, log-log when `log`.
@@ -424,4 +467,29 @@ where
     }))?;
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corner(curves: &[Vec<(f64, f64)>]) -> String {
+        format!("{:?}", legend_corner(curves))
+    }
+
+    #[test]
+    fn the_legend_goes_to_a_corner_no_curve_crosses() {
+        // Error against cost: both curves fall to the right; the upper right is free.
+        let falling = vec![vec![(0.0, 0.9), (0.3, 0.1)], vec![(0.5, 0.7), (1.0, 0.2)]];
+        assert_eq!(corner(&falling), "UpperRight");
+        // Rising (speed against pressure): upper left.
+        let rising = vec![vec![(0.0, 0.0), (1.0, 1.0)]];
+        assert_eq!(corner(&rising), "UpperLeft");
+        // A segment crossing the upper right without a point in it still counts.
+        let crossing = vec![vec![(0.5, 1.0), (1.0, 0.5)], vec![(0.0, 1.0), (0.3, 0.0)]];
+        assert_eq!(corner(&crossing), "LowerRight");
+        // Every corner taken: the middle of the right side.
+        let all = vec![vec![(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (1.0, 0.0)]];
+        assert_eq!(corner(&all), "MiddleRight");
+    }
 }

@@ -66,6 +66,32 @@ pub fn tangential_force(mu: f64, f_n: f64, slip: &Vec3, gamma: f64) -> Vec3 {
     slip * (-magnitude / s)
 }
 
+/// The start of a touch's tangential force, `|F_t| = d1 s^(1/4) + d2 s^(3/2) + ...`
+/// (`s` the time since the touch), for an impact at normal speed `v0` whose normal force
+/// starts as `c1 s^(1/4) + c2 s^(3/2)` (`HertzLaw::onset_terms`) with slip speed `slip`
+/// at the touch. Both branches of the law start as `s^(1/4)` (`gamma_t` grows as
+/// `delta^(1/4)`, `delta ~ v0 s`), so the regime at the touch holds through its first
+/// steps: sliding, `(mu c1, mu c2)` exactly; sticking, `(gamma_1 |s|, 0)` with
+/// `gamma_t = gamma_1 s^(1/4)`, the slip's own decay (of order `s^(3/2)`) left out.
+pub fn onset_terms(
+    mu: f64,
+    (c1, c2): (f64, f64),
+    m_t: f64,
+    k: f64,
+    v0: f64,
+    slip: f64,
+) -> (f64, f64) {
+    if mu == 0.0 || slip == 0.0 {
+        return (0.0, 0.0);
+    }
+    let g1 = 2.0 * (1.5 * m_t * k).sqrt() * v0.sqrt().sqrt();
+    if mu * c1 <= g1 * slip {
+        (mu * c1, mu * c2)
+    } else {
+        (g1 * slip, 0.0)
+    }
+}
+
 /// Tangential part of `v` for the unit normal `n`.
 #[inline]
 pub fn tangential_part(v: &Vec3, n: &Vec3) -> Vec3 {
@@ -75,6 +101,32 @@ pub fn tangential_part(v: &Vec3, n: &Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The law itself just after a touch (`delta = v0 s`, normal force from its start
+    /// `c1 s^(1/4) + c2 s^(3/2)`) against `onset_terms`' start, in both branches.
+    #[test]
+    fn a_touchs_tangential_force_starts_as_onset_terms_say() {
+        let (k, m_t, v0, mu) = (2.2e9, 3.0e-7, 100.0, 0.3);
+        let (c1, c2) = (1.2e3, 2.3e12);
+        for slip in [60.0, 0.5] {
+            let (d1, d2) = onset_terms(mu, (c1, c2), m_t, k, v0, slip);
+            let sliding = slip > 1.0;
+            assert_eq!(d1 == mu * c1, sliding);
+            for s in [1e-13f64, 1e-11, 1e-10] {
+                let f_n = c1 * s.powf(0.25) + c2 * s.powf(1.5);
+                let gamma = stick_damping(m_t, k, v0 * s);
+                let law = tangential_force(mu, f_n, &Vec3::new(slip, 0.0, 0.0), gamma).norm();
+                let start = d1 * s.powf(0.25) + d2 * s.powf(1.5);
+                // Sliding: exact. Sticking: the leading term (the slip held fixed here).
+                assert!(
+                    (law / start - 1.0).abs() < 1e-12,
+                    "slip {slip} s {s}: {law} vs {start}"
+                );
+            }
+        }
+        assert_eq!(onset_terms(0.0, (c1, c2), m_t, k, v0, 60.0), (0.0, 0.0));
+        assert_eq!(onset_terms(mu, (c1, c2), m_t, k, v0, 0.0), (0.0, 0.0));
+    }
 
     #[test]
     fn coulomb_cap_and_stick_branch() {

@@ -91,32 +91,50 @@ impl HertzLaw {
         if v0 <= 0.0 || h <= 0.0 {
             return (0.0, 0.0);
         }
-        let al = self.damping;
-        let c1 = al * (m_eff * k).sqrt() * v0 * v0.sqrt().sqrt();
-        let c2 = k * v0 * v0.sqrt() * (1.0 - 8.0 / 9.0 * al * al);
-        let r = a.max(0.0) / h;
-        let quad = crate::integrate::dopri::start_quadrature(r);
-        // s^(p+1) and s^(p+2) at both ends of [r, r + 1], for p = 1/4 and 3/2.
-        let powers = |s: f64| {
-            let sq = s.sqrt();
-            let p1 = [s * sq.sqrt(), s * s * sq];
-            [p1, [p1[0] * s, p1[1] * s]]
-        };
-        let (r1, lo, hi) = (r + 1.0, powers(r), powers(r + 1.0));
-        let hq = h.sqrt();
-        let scale = [h * hq.sqrt(), h * h * hq];
-        let (mut dx, mut dv) = (0.0, 0.0);
-        for (q, (c, p)) in [(c1, 0.25), (c2, 1.5)].into_iter().enumerate() {
-            let (p1, p2) = (p + 1.0, p + 2.0);
-            // Exact integrals over [r, r + 1] of s^p and of (r + 1 - s) s^p.
-            let iv = (hi[0][q] - lo[0][q]) / p1;
-            let ix = r1 * iv - (hi[1][q] - lo[1][q]) / p2;
-            let (qv, qx) = quad[q];
-            dv += c * scale[q] * (iv - qv);
-            dx += c * scale[q] * h * (ix - qx);
-        }
-        (dx, dv)
+        start_correction(self.onset_terms(k, m_eff, v0), a, h)
     }
+
+    /// The coefficients `(c1, c2)` of the force's start `F = c1 s^(1/4) + c2 s^(3/2)`
+    /// at an impact of normal speed `v0` (see [`HertzLaw::onset_correction`]).
+    pub fn onset_terms(&self, k: f64, m_eff: f64, v0: f64) -> (f64, f64) {
+        let al = self.damping;
+        (
+            al * (m_eff * k).sqrt() * v0 * v0.sqrt().sqrt(),
+            k * v0 * v0.sqrt() * (1.0 - 8.0 / 9.0 * al * al),
+        )
+    }
+}
+
+/// What a Dormand-Prince step of `h` (s), starting `a` (s) after a touch, misses of a
+/// force `c1 s^(1/4) + c2 s^(3/2)` (`s` the time since the touch): `(position,
+/// velocity)` integrals, exact minus the step's quadrature (see
+/// [`HertzLaw::onset_correction`]; the sliding friction of a touch starts the same way).
+pub fn start_correction((c1, c2): (f64, f64), a: f64, h: f64) -> (f64, f64) {
+    if h <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let r = a.max(0.0) / h;
+    let quad = crate::integrate::dopri::start_quadrature(r);
+    // s^(p+1) and s^(p+2) at both ends of [r, r + 1], for p = 1/4 and 3/2.
+    let powers = |s: f64| {
+        let sq = s.sqrt();
+        let p1 = [s * sq.sqrt(), s * s * sq];
+        [p1, [p1[0] * s, p1[1] * s]]
+    };
+    let (r1, lo, hi) = (r + 1.0, powers(r), powers(r + 1.0));
+    let hq = h.sqrt();
+    let scale = [h * hq.sqrt(), h * h * hq];
+    let (mut dx, mut dv) = (0.0, 0.0);
+    for (q, (c, p)) in [(c1, 0.25), (c2, 1.5)].into_iter().enumerate() {
+        let (p1, p2) = (p + 1.0, p + 2.0);
+        // Exact integrals over [r, r + 1] of s^p and of (r + 1 - s) s^p.
+        let iv = (hi[0][q] - lo[0][q]) / p1;
+        let ix = r1 * iv - (hi[1][q] - lo[1][q]) / p2;
+        let (qv, qx) = quad[q];
+        dv += c * scale[q] * (iv - qv);
+        dx += c * scale[q] * h * (ix - qx);
+    }
+    (dx, dv)
 }
 
 /// `E* = 1 / ((1-nu_1^2)/E_1 + (1-nu_2^2)/E_2)`, Pa.

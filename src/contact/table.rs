@@ -32,7 +32,7 @@
 
 use std::sync::OnceLock;
 
-use crate::integrate::dopri::{DenseStep, Dopri5};
+use crate::integrate::dopri::{DenseStep, Dopri5, step_factor};
 
 /// States kept along a contact: at fractions `j / SAMPLES` of the time to the kink,
 /// `j = 1..=SAMPLES` (the last is the kink).
@@ -206,7 +206,7 @@ fn solve(alpha: f64, q: f64, eps: f64) -> Option<[f64; VALUES]> {
         });
         if e.is_nan() || e > 1.0 {
             h *= if e.is_finite() {
-                (0.9 * e.powf(-0.2)).max(0.1)
+                step_factor(e, 0.1, f64::INFINITY)
             } else {
                 0.1
             };
@@ -235,7 +235,7 @@ fn solve(alpha: f64, q: f64, eps: f64) -> Option<[f64; VALUES]> {
         t += h;
         y = y_new;
         w.accept_fsal();
-        h *= (0.9 * e.max(1e-10).powf(-0.2)).min(4.0);
+        h *= step_factor(e.max(1e-10), 0.0, 4.0);
     };
     let mut out = [0.0; VALUES];
     out[0] = tau_k;

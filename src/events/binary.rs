@@ -36,7 +36,7 @@ use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::table::{ContactTable, Course, SAMPLES};
 use crate::contact::{PairContact, effective_mass};
-use crate::integrate::dopri::{DenseStep, Dopri5};
+use crate::integrate::dopri::{DenseStep, Dopri5, step_factor};
 use crate::integrate::island::{
     AT_ONSET, MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_contact_step, first_crossing_guided,
 };
@@ -349,7 +349,7 @@ where
                 }
                 out.rejected += 1;
                 h *= if en.is_finite() {
-                    (0.9 * en.powf(-0.2)).max(0.2)
+                    step_factor(en, 0.2, f64::INFINITY)
                 } else {
                     0.25
                 };
@@ -408,11 +408,7 @@ where
             if pushing && *t < e {
                 on_step(out, *t, y);
             }
-            h *= if en > 0.0 {
-                (0.9 * en.powf(-0.2)).clamp(0.2, 5.0)
-            } else {
-                5.0
-            };
+            h *= step_factor(en, 0.2, 5.0);
         }
         Some(pushing)
     }
@@ -704,14 +700,34 @@ pub fn resolve(
     let spins = mu > 0.0;
     let radii = [a.radius, b.radius];
     let v_impact = hertz::impact_speed(m_eff, k, tc);
+    let terms = law.onset_terms(k, m_eff, v_impact);
     let correct = |at: f64, h: f64, y0: &[f64], y1: &mut [f64]| {
         let r = vec_at(y0, 0);
         let d = r.norm();
         if d > 0.0 {
             let n = r / d;
-            let (dx, dv) = law.onset_correction(k, m_eff, v_impact, at, h);
+            let (dx, dv) = hertz::start_correction(terms, at, h);
             add_at(y1, 0, &(n * (dx / m_eff)));
             add_at(y1, 3, &(n * (dv / m_eff)));
+            if spins {
+                // The tangential force's start along the slip at the step's start: on
+                // `a` the impulse `-s dv_t`, on `b` the opposite (see the rhs).
+                let (ra, rb) = (n * a.radius, n * -b.radius);
+                let (wa, wb) = (vec_at(y0, 6), vec_at(y0, 9));
+                let v = vec_at(y0, 3);
+                let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), &n);
+                let sn = slip.norm();
+                let d_t = friction::onset_terms(mu, terms, m_t, k, v_impact, sn);
+                if sn > 0.0 && d_t.0 + d_t.1 > 0.0 {
+                    let dir = slip / sn;
+                    let (dx, dv) = hertz::start_correction(d_t, at, h);
+                    add_at(y1, 0, &(dir * (dx / m_eff)));
+                    add_at(y1, 3, &(dir * (dv / m_eff)));
+                    let j = dir * -dv;
+                    add_at(y1, 6, &(ra.cross(&j) / ia));
+                    add_at(y1, 9, &(rb.cross(&-j) / ib));
+                }
+            }
         }
     };
     let phase = Phase {
@@ -724,7 +740,7 @@ pub fn resolve(
         set,
         tc,
         onset,
-        correct: if spins { None } else { Some(&correct) },
+        correct: Some(&correct),
     };
     let (wa, wb) = (a.omega, b.omega);
     let mut y = [
@@ -994,10 +1010,26 @@ pub fn resolve_specimen(
     let margin = |y: &[f64]| law.unloading_margin(k, m, r - y[2], -y[5]);
     let overlap = |y: &[f64]| r - y[2];
     let v_impact = hertz::impact_speed(m, k, tc);
-    let correct = |at: f64, h: f64, _y0: &[f64], y1: &mut [f64]| {
-        let (dx, dv) = law.onset_correction(k, m, v_impact, at, h);
+    let terms = law.onset_terms(k, m, v_impact);
+    let correct = |at: f64, h: f64, y0: &[f64], y1: &mut [f64]| {
+        let (dx, dv) = hertz::start_correction(terms, at, h);
         y1[2] += dx / m;
         y1[5] += dv / m;
+        if y0.len() > 6 {
+            // The tangential force's start along the slip at the step's start.
+            let r_c = Vec3::new(0.0, 0.0, -r);
+            let slip =
+                friction::tangential_part(&(vec_at(y0, 3) + vec_at(y0, 6).cross(&r_c)), &Vec3::z());
+            let sn = slip.norm();
+            let d_t = friction::onset_terms(mu, terms, m_t, k, v_impact, sn);
+            if sn > 0.0 && d_t.0 + d_t.1 > 0.0 {
+                let dir = slip / sn;
+                let (dx, dv) = hertz::start_correction(d_t, at, h);
+                add_at(y1, 0, &(dir * (-dx / m)));
+                add_at(y1, 3, &(dir * (-dv / m)));
+                add_at(y1, 6, &(r_c.cross(&(dir * -dv)) / inertia));
+            }
+        }
     };
     let phase = Phase {
         rhs: &rhs,
@@ -1009,7 +1041,7 @@ pub fn resolve_specimen(
         set,
         tc,
         onset,
-        correct: if mu > 0.0 { None } else { Some(&correct) },
+        correct: Some(&correct),
     };
     let w = a.omega;
     let mut y = [

@@ -28,7 +28,7 @@ use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
 use crate::forces::{ForceSet, Turbulence};
-use crate::integrate::dopri::{DenseStep, Dopri5};
+use crate::integrate::dopri::{DenseStep, Dopri5, step_factor};
 use crate::integrate::{add_at, vec_at};
 use crate::record::{Impact, RunEvent};
 use crate::state::{Domain, ShotState, ShotStatus};
@@ -226,6 +226,57 @@ enum Onsets {
     AtStart,
 }
 
+/// A touching pair's lever arms from members `i` and `j` (radii given) to their contact
+/// point, the middle of the overlap (`R - delta/2`, as LIGGGHTS: the pair's angular
+/// momentum is conserved), and the slip of `i`'s contact point against `j`'s, for the
+/// normal `nrm` from `i` to `j` in state `y` (`n` members).
+fn pair_slip(
+    y: &[f64],
+    n: usize,
+    (i, r_i): (usize, f64),
+    (j, r_j): (usize, f64),
+    nrm: &Vec3,
+    overlap: f64,
+) -> (Vec3, Vec3, Vec3) {
+    let (ri, rj) = (nrm * (r_i - 0.5 * overlap), nrm * (0.5 * overlap - r_j));
+    let vi = vel(y, i) + omega(y, n, i).cross(&ri);
+    let vj = vel(y, j) + omega(y, n, j).cross(&rj);
+    (ri, rj, friction::tangential_part(&(vi - vj), nrm))
+}
+
+/// Adds the start of a touch's tangential force `-(d1 s^(1/4) + d2 s^(3/2)) slip / |slip|`
+/// (`friction::onset_terms`) that a step of `h` starting `at` after the touch missed:
+/// on the first of `bodies` (member, state, lever arm to the contact point) as it acts,
+/// on the second (a pair's other shot) the opposite, to positions, velocities and spins.
+fn tangential_start(
+    y1: &mut [f64],
+    n: usize,
+    slip: &Vec3,
+    d_t: (f64, f64),
+    at: f64,
+    h: f64,
+    bodies: &[(usize, &ShotState, Vec3)],
+) {
+    let sn = slip.norm();
+    if sn == 0.0 || d_t.0 + d_t.1 <= 0.0 {
+        return;
+    }
+    let (dx, dv) = hertz::start_correction(d_t, at, h);
+    for (q, (i, m, r_c)) in bodies.iter().enumerate() {
+        let sign = if q == 0 { -1.0 } else { 1.0 };
+        let (jx, jv) = (slip * (sign * dx / sn), slip * (sign * dv / sn));
+        let b = &m.body;
+        add_at(y1, 6 * i, &(jx / b.mass));
+        add_acc(y1, *i, &(jv / b.mass));
+        add_alpha(
+            y1,
+            n,
+            *i,
+            &(r_c.cross(&jv) / (INERTIA_FACTOR * b.mass * b.radius * b.radius)),
+        );
+    }
+}
+
 /// Whether member `m` moves at time `t`.
 #[inline]
 fn moving(m: &ShotState, t: f64) -> bool {
@@ -239,16 +290,6 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    /// Whether a contact's start is corrected (`HertzLaw::onset_correction`): without
-    /// friction there (`mu` picks the contact's coefficient; zero counts as none).
-    fn smooth_start(&self, mu: fn(&friction::Friction) -> f64) -> bool {
-        self.phys
-            .contacts
-            .friction
-            .as_ref()
-            .is_none_or(|f| mu(f) == 0.0)
-    }
-
     /// Whether a contact of Hertz time `tc` that touched at `onset` is an impact still
     /// within a contact step of its touch at `t` (closing speed at least
     /// `RAMP_MIN_SPEED` at the onset, read back from `tc ~ v^(-1/5)`).
@@ -380,15 +421,8 @@ impl Ctx<'_> {
                 add_acc(dy, j, &(nrm * (f / mj.mass)));
                 if let Some(fr) = &fr {
                     work.friction_calls += 1;
-                    // Both bodies act at one point, the middle of the overlap (lever arms
-                    // R - delta/2, as LIGGGHTS): the pair's angular momentum is conserved.
-                    let (ri, rj) = (
-                        nrm * (mi.radius - 0.5 * overlap),
-                        nrm * (0.5 * overlap - mj.radius),
-                    );
-                    let vi = vel(y, i) + omega(y, n, i).cross(&ri);
-                    let vj = vel(y, j) + omega(y, n, j).cross(&rj);
-                    let slip = friction::tangential_part(&(vi - vj), &nrm);
+                    let (ri, rj, slip) =
+                        pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
                     let gamma = friction::stick_damping(
                         friction::sphere_pair_mass(mi.mass, mj.mass),
                         k,
@@ -855,7 +889,7 @@ impl Ctx<'_> {
     }
 
     /// Step cap (s) from contacts in progress and contacts being approached, and the
-    /// frictionless impacts that touched within a contact step before `t` or at `t`
+    /// impacts that touched within a contact step before `t` or at `t`
     /// (the step's result is then corrected by [`Ctx::correct_onsets`]).
     ///
     /// An impact is resolved with `contact_steps` steps per Hertz duration. A contact that
@@ -874,49 +908,46 @@ impl Ctx<'_> {
         let n = self.phys.contact_steps;
         let mut cap = f64::INFINITY;
         let onsets = std::cell::Cell::new(Onsets::None);
-        let smooth = |mu| self.smooth_start(mu);
-        let in_contact =
-            |tc: f64, onset: f64, overlap: f64, m_eff: f64, k: f64, corrected: bool| -> f64 {
-                // Right after an onset: the dashpot's delta^(1/4) makes the force's slope
-                // infinite there, which a Runge-Kutta step only resolves when it is short,
-                // and the error estimate underrates it. Without friction the step that
-                // starts on the touch (located: the usual case) is corrected for that
-                // (`HertzLaw::onset_correction`) and is `first_contact_step` long; otherwise
-                // (friction, whose tangential force starts the same way; an onset inside a
-                // step) the first step is 1 % of a contact step. The steps grow from there
-                // at most five-fold per step (a step cut by a cap does not restrain the
-                // controller's next proposal, so without this the second step jumped to a
-                // whole contact step: measured, a rebound error of 5e-4 at any tolerance
-                // above 1e-5). Only for impacts (a closing speed of at least
-                // `RAMP_MIN_SPEED` at the onset, read back from the contact's Hertz time
-                // `tc ~ v^(-1/5)`): the contacts of a resting pile open and close at
-                // millimetres per second, where the start costs nothing in accuracy and a
-                // ramp would cost every member of its island steps.
-                if self.fresh_impact(t, tc, onset, m_eff, k) {
-                    if corrected {
-                        onsets.set(onsets.get().max(Onsets::Recent));
-                        if t - onset <= AT_ONSET * tc {
-                            onsets.set(Onsets::AtStart);
-                            return first_contact_step(tc, n, self.phys.tolerance);
-                        }
-                    }
-                    let early = (ONSET_STEP * tc / n).max(4.0 * (t - onset));
-                    if early < tc / n {
-                        return early;
-                    }
-                } else if t - onset < ONSET_STEP * tc / n {
-                    return ONSET_STEP * tc / n;
+        let in_contact = |tc: f64, onset: f64, overlap: f64, m_eff: f64, k: f64| -> f64 {
+            // Right after an onset: the dashpot's delta^(1/4) makes the force's slope
+            // infinite there, which a Runge-Kutta step only resolves when it is short,
+            // and the error estimate underrates it. The steps within a contact step of
+            // the touch are corrected for that (`HertzLaw::onset_correction`, and the
+            // tangential force's start with friction), and the step that starts on
+            // the touch (located: the usual case) is `first_contact_step` long; an
+            // onset found inside a step (none located) steps from 1 % of a contact
+            // step. The steps grow from there
+            // at most five-fold per step (a step cut by a cap does not restrain the
+            // controller's next proposal, so without this the second step jumped to a
+            // whole contact step: measured, a rebound error of 5e-4 at any tolerance
+            // above 1e-5). Only for impacts (a closing speed of at least
+            // `RAMP_MIN_SPEED` at the onset, read back from the contact's Hertz time
+            // `tc ~ v^(-1/5)`): the contacts of a resting pile open and close at
+            // millimetres per second, where the start costs nothing in accuracy and a
+            // ramp would cost every member of its island steps.
+            if self.fresh_impact(t, tc, onset, m_eff, k) {
+                onsets.set(onsets.get().max(Onsets::Recent));
+                if t - onset <= AT_ONSET * tc {
+                    onsets.set(Onsets::AtStart);
+                    return first_contact_step(tc, n, self.phys.tolerance);
                 }
-                if t - onset <= 3.0 * tc {
-                    return tc / n;
+                let early = (ONSET_STEP * tc / n).max(4.0 * (t - onset));
+                if early < tc / n {
+                    return early;
                 }
-                let k_lin = 1.5 * k * overlap.max(0.0).sqrt();
-                if k_lin > 0.0 {
-                    0.1 * std::f64::consts::TAU * (m_eff / k_lin).sqrt()
-                } else {
-                    tc / n
-                }
-            };
+            } else if t - onset < ONSET_STEP * tc / n {
+                return ONSET_STEP * tc / n;
+            }
+            if t - onset <= 3.0 * tc {
+                return tc / n;
+            }
+            let k_lin = 1.5 * k * overlap.max(0.0).sqrt();
+            if k_lin > 0.0 {
+                0.1 * std::f64::consts::TAU * (m_eff / k_lin).sqrt()
+            } else {
+                tc / n
+            }
+        };
         // Approach: the step may end at most one contact-resolving step past the
         // ballistic touching time, so a contact is neither skipped nor entered deeply.
         // (`cap` so far: a touch no sooner than that cannot lower it, and its Hertz time
@@ -947,7 +978,6 @@ impl Ctx<'_> {
                         overlap,
                         m.body.mass,
                         k,
-                        smooth(|f| f.specimen),
                     ));
                 } else {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
@@ -970,7 +1000,6 @@ impl Ctx<'_> {
                         overlap,
                         m.body.mass,
                         k,
-                        smooth(|f| f.wall),
                     ));
                 } else if let Some(geo) = w.geometry(&p, m.body.radius) {
                     let k = w.law.stiffness(w.effective_radius(m.body.radius));
@@ -998,7 +1027,6 @@ impl Ctx<'_> {
                         overlap,
                         effective_mass(bi.mass, bj.mass),
                         k,
-                        smooth(|f| f.shot),
                     ));
                     continue;
                 }
@@ -1023,9 +1051,11 @@ impl Ctx<'_> {
     }
 
     /// Adds to the step `(t, y0) -> (t + h, y1)` what its quadrature missed of the start
-    /// of the contacts that touched within a contact step before `t` (frictionless
-    /// impacts; `HertzLaw::onset_correction`), along each contact's normal at `t`: the
-    /// contacts `contact_cap` reports in its [`Onsets`].
+    /// of the impacts that touched within a contact step before `t`
+    /// (`HertzLaw::onset_correction`): the normal force's along each contact's normal at
+    /// `t`, and with friction the tangential force's along the contact point's slip
+    /// there (`friction::onset_terms`); the contacts `contact_cap` reports in its
+    /// [`Onsets`].
     #[allow(clippy::too_many_arguments)]
     fn correct_onsets(
         &self,
@@ -1037,13 +1067,10 @@ impl Ctx<'_> {
         y1: &mut [f64],
     ) {
         let c = &self.phys.contacts;
-        let (sp_ok, wall_ok, pair_ok) = (
-            self.smooth_start(|f| f.specimen),
-            self.smooth_start(|f| f.wall),
-            self.smooth_start(|f| f.shot),
-        );
+        let n = members.len();
+        let fr = c.friction;
         let fresh = |tc, onset, m_eff, k| self.fresh_impact(t, tc, onset, m_eff, k);
-        let mut push = |i: usize, dir: &Vec3, mass: f64, (dx, dv): (f64, f64)| {
+        let push = |y1: &mut [f64], i: usize, dir: &Vec3, mass: f64, (dx, dv): (f64, f64)| {
             add_at(y1, 6 * i, &(dir * (dx / mass)));
             add_acc(y1, i, &(dir * (dv / mass)));
         };
@@ -1052,43 +1079,51 @@ impl Ctx<'_> {
                 continue;
             }
             let mass = m.body.mass;
+            let (p, v, r) = (pos(y0, i), vel(y0, i), m.body.radius);
+            // A contact with the specimen (`up`: +z) or the wall (`up`: inward).
+            let one = |y1: &mut [f64], law: &hertz::HertzLaw, k, tc, onset, up: Vec3, mu| {
+                let v0 = hertz::impact_speed(mass, k, tc);
+                let terms = law.onset_terms(k, mass, v0);
+                push(
+                    y1,
+                    i,
+                    &up,
+                    mass,
+                    hertz::start_correction(terms, t - onset, h),
+                );
+                if mu > 0.0 {
+                    let r_c = up * -r;
+                    let slip = friction::tangential_part(&(v + omega(y0, n, i).cross(&r_c)), &up);
+                    let m_t = friction::sphere_on_wall_mass(mass);
+                    let d_t = friction::onset_terms(mu, terms, m_t, k, v0, slip.norm());
+                    tangential_start(y1, n, &slip, d_t, t - onset, h, &[(i, m, r_c)]);
+                }
+            };
             if let Some(sp) = &c.specimen {
-                let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                if sp_ok
-                    && m.on_specimen
-                    && fresh(m.specimen_contact_time, m.specimen_onset, mass, k)
-                {
-                    let v0 = hertz::impact_speed(mass, k, m.specimen_contact_time);
-                    push(
-                        i,
-                        &Vec3::z(),
-                        mass,
-                        sp.law
-                            .onset_correction(k, mass, v0, t - m.specimen_onset, h),
-                    );
+                let k = sp.law.stiffness(sp.effective_radius(r));
+                if m.on_specimen && fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
+                    let mu = fr.map_or(0.0, |f| f.specimen);
+                    let (tc, on) = (m.specimen_contact_time, m.specimen_onset);
+                    one(y1, &sp.law, k, tc, on, Vec3::z(), mu);
                 }
             }
             if let Some(w) = &c.wall {
-                let k = w.law.stiffness(w.effective_radius(m.body.radius));
-                if wall_ok
-                    && m.on_wall
+                let k = w.law.stiffness(w.effective_radius(r));
+                if m.on_wall
                     && fresh(m.wall_contact_time, m.wall_onset, mass, k)
-                    && let Some(g) = w.geometry(&pos(y0, i), m.body.radius)
+                    && let Some(g) = w.geometry(&p, r)
                 {
-                    let v0 = hertz::impact_speed(mass, k, m.wall_contact_time);
-                    push(
-                        i,
-                        &(-g.outward),
-                        mass,
-                        w.law.onset_correction(k, mass, v0, t - m.wall_onset, h),
-                    );
+                    let mu = fr.map_or(0.0, |f| f.wall);
+                    let (tc, on) = (m.wall_contact_time, m.wall_onset);
+                    one(y1, &w.law, k, tc, on, -g.outward, mu);
                 }
             }
         }
         if let Some(pc) = &c.pair {
+            let mu = fr.map_or(0.0, |f| f.shot);
             for pr in pairs {
                 let (i, j) = (pr.a as usize, pr.b as usize);
-                if !pair_ok || !pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
+                if !pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
                 let (bi, bj) = (members[i].body, members[j].body);
@@ -1106,9 +1141,19 @@ impl Ctx<'_> {
                 }
                 let nrm = d / dist;
                 let v0 = hertz::impact_speed(m_eff, k, pr.contact_time);
-                let corr = pc.law.onset_correction(k, m_eff, v0, t - pr.onset, h);
-                push(j, &nrm, bj.mass, corr);
-                push(i, &(-nrm), bi.mass, corr);
+                let terms = pc.law.onset_terms(k, m_eff, v0);
+                let corr = hertz::start_correction(terms, t - pr.onset, h);
+                push(y1, j, &nrm, bj.mass, corr);
+                push(y1, i, &(-nrm), bi.mass, corr);
+                if mu > 0.0 {
+                    let overlap = bi.radius + bj.radius - dist;
+                    let (ri, rj, slip) =
+                        pair_slip(y0, n, (i, bi.radius), (j, bj.radius), &nrm, overlap);
+                    let m_t = friction::sphere_pair_mass(bi.mass, bj.mass);
+                    let d_t = friction::onset_terms(mu, terms, m_t, k, v0, slip.norm());
+                    let at = [(i, &members[i], ri), (j, &members[j], rj)];
+                    tangential_start(y1, n, &slip, d_t, t - pr.onset, h, &at);
+                }
             }
         }
     }
@@ -1618,7 +1663,7 @@ fn advance_adaptive(
             work.steps_rejected += 1;
             rejected = true;
             h *= if e.is_finite() {
-                (0.9 * e.powf(-0.2)).max(0.2)
+                step_factor(e, 0.2, f64::INFINITY)
             } else {
                 0.25
             };
@@ -1660,11 +1705,7 @@ fn advance_adaptive(
             let step = dopri.dense(t, y, y_new, h);
             step.at(t1, y);
             m.ahead = Some(std::sync::Arc::new(step));
-            h_next = h * if err_norm > 0.0 {
-                (0.9 * err_norm.powf(-0.2)).clamp(0.2, 5.0)
-            } else {
-                5.0
-            };
+            h_next = h * step_factor(err_norm, 0.2, 5.0);
             t = t1;
             observer(t, y);
             break;
@@ -1718,11 +1759,7 @@ fn advance_adaptive(
         {
             dopri.invalidate(); // a shot entered: the right-hand side changed
         }
-        let controller = h * if err_norm > 0.0 {
-            (0.9 * err_norm.powf(-0.2)).clamp(0.2, 5.0)
-        } else {
-            5.0
-        };
+        let controller = h * step_factor(err_norm, 0.2, 5.0);
         // A step shortened by a clamp, a cap or an event says nothing against the
         // controller's earlier proposal; a rejected one does.
         h_next = if rejected || h >= h_wanted {
