@@ -656,6 +656,17 @@ pub fn resolve(
         INERTIA_FACTOR * b.mass * b.radius * b.radius,
     );
     let m_t = friction::sphere_pair_mass(a.mass, b.mass);
+    // Lever arms to the contact point, the middle of the overlap, and its slip (of
+    // `a`'s point against `b`'s) in state `y` along the normal `n`.
+    let contact_point = |y: &[f64], n: &Vec3, overlap: f64| {
+        let (ra, rb) = (
+            n * (a.radius - 0.5 * overlap),
+            n * (0.5 * overlap - b.radius),
+        );
+        let (v, wa, wb) = (vec_at(y, 3), vec_at(y, 6), vec_at(y, 9));
+        let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), n);
+        (ra, rb, slip)
+    };
     let rhs = |y: &[f64], dy: &mut [f64]| {
         let r = vec_at(y, 0);
         let v = vec_at(y, 3);
@@ -669,12 +680,7 @@ pub fn resolve(
             let f = law.force(k, m_eff, overlap, -v.dot(&n));
             acc = n * (f / m_eff);
             if y.len() > 6 {
-                let (ra, rb) = (
-                    n * (a.radius - 0.5 * overlap),
-                    n * (0.5 * overlap - b.radius),
-                );
-                let (wa, wb) = (vec_at(y, 6), vec_at(y, 9));
-                let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), &n);
+                let (ra, rb, slip) = contact_point(y, &n, overlap);
                 let gamma = friction::stick_damping(m_t, k, overlap);
                 // On shot `a`; `b` feels the opposite.
                 let ft = friction::tangential_force(mu, f, &slip, gamma);
@@ -712,10 +718,7 @@ pub fn resolve(
             if spins {
                 // The tangential force's start along the slip at the step's start: on
                 // `a` the impulse `-s dv_t`, on `b` the opposite (see the rhs).
-                let (ra, rb) = (n * a.radius, n * -b.radius);
-                let (wa, wb) = (vec_at(y0, 6), vec_at(y0, 9));
-                let v = vec_at(y0, 3);
-                let slip = friction::tangential_part(&(wa.cross(&ra) - wb.cross(&rb) - v), &n);
+                let (ra, rb, slip) = contact_point(y0, &n, sigma - d);
                 let sn = slip.norm();
                 let d_t = friction::onset_terms(mu, terms, m_t, k, v_impact, sn);
                 if sn > 0.0 && d_t.0 + d_t.1 > 0.0 {
@@ -983,6 +986,11 @@ pub fn resolve_specimen(
     // force acts at the lowest point, as in the island integrator.
     let inertia = INERTIA_FACTOR * m * r * r;
     let m_t = friction::sphere_on_wall_mass(m);
+    // The contact point, below the centre, and its slip in state `y`.
+    let r_c = Vec3::new(0.0, 0.0, -r);
+    let slip_at = |y: &[f64]| {
+        friction::tangential_part(&(vec_at(y, 3) + vec_at(y, 6).cross(&r_c)), &Vec3::z())
+    };
     let rhs = |y: &[f64], dy: &mut [f64]| {
         dy[..3].copy_from_slice(&y[3..6]);
         let overlap = r - y[2];
@@ -994,9 +1002,7 @@ pub fn resolve_specimen(
         let mut acc = Vec3::new(0.0, 0.0, f / m - g);
         let mut alpha = Vec3::zeros();
         if y.len() > 6 && overlap > 0.0 {
-            let r_c = Vec3::new(0.0, 0.0, -r);
-            let (v, w) = (vec_at(y, 3), vec_at(y, 6));
-            let slip = friction::tangential_part(&(v + w.cross(&r_c)), &Vec3::z());
+            let slip = slip_at(y);
             let gamma = friction::stick_damping(m_t, k, overlap);
             let ft = friction::tangential_force(mu, f, &slip, gamma);
             acc += ft / m;
@@ -1017,9 +1023,7 @@ pub fn resolve_specimen(
         y1[5] += dv / m;
         if y0.len() > 6 {
             // The tangential force's start along the slip at the step's start.
-            let r_c = Vec3::new(0.0, 0.0, -r);
-            let slip =
-                friction::tangential_part(&(vec_at(y0, 3) + vec_at(y0, 6).cross(&r_c)), &Vec3::z());
+            let slip = slip_at(y0);
             let sn = slip.norm();
             let d_t = friction::onset_terms(mu, terms, m_t, k, v_impact, sn);
             if sn > 0.0 && d_t.0 + d_t.1 > 0.0 {
