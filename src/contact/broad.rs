@@ -1,6 +1,17 @@
-//! Broad phase: a cell list that finds the pairs of spheres whose (inflated) radii
-//! overlap, in O(N) expected time, with a deterministic (sorted) output.
+//! Broad phase: finds the pairs of spheres whose (inflated) radii overlap, with a
+//! deterministic (sorted) output, by sweep and prune or by a cell list, whichever the
+//! items' layout suits.
 //!
+//! Sparse items strung out along one axis (shots in a nozzle stream, a falling column)
+//! are swept along one axis, the one on which their intervals overlap least (estimated
+//! from a 64-bin histogram of the centres per axis): sorted by the low end of their
+//! interval on it, each item checks the items whose intervals start inside its
+//! own, O(N log N) plus the overlaps. A dense grid over such a layout would be mostly
+//! empty cells, and a hashed one pays 27 lookups per item. When the intervals would
+//! overlap too many others (a bed, a compact cloud) the sweep is not tried, and a sweep
+//! that finds more than its budget of interval overlaps is abandoned for the cell list.
+//!
+//! The cell list, in O(N) expected time.
 //! Each item is a centre and an inflated radius (shot radius plus how far it can move
 //! in the coming window). Radii vary a lot (shots at rest next to fast ones), so the cell
 //! is twice the 90th-percentile radius, and each pair is found by the item with the
@@ -123,11 +134,24 @@ impl Bins {
     }
 }
 
-/// Reusable cell list.
+/// The sweep is tried when an item's interval on the sweep axis is expected to hold
+/// the starts of at most this many others.
+const SWEEP_EXPECTED: f64 = 16.0;
+/// Histogram bins per axis for that estimate.
+const BINS: usize = 64;
+/// A sweep that checks more than this many candidate pairs per item (plus a constant)
+/// is abandoned for the cell list: the items bunch up somewhere.
+const SWEEP_BUDGET: usize = 24;
+
+/// Reusable broad phase (sweep buffers and cell grids).
 #[derive(Debug, Default, Clone)]
 pub struct CellList {
     fine: Bins,
     coarse: Bins,
+    /// Sweep order: the low end of each item's interval on the sweep axis, and the item.
+    sweep: Vec<(f64, u32)>,
+    /// Whether the last call swept (for tests).
+    swept: bool,
 }
 
 impl CellList {
@@ -136,9 +160,99 @@ impl CellList {
     pub fn pairs(&mut self, centres: &[Vec3], radii: &[f64]) -> Vec<(u32, u32)> {
         let n = centres.len();
         let mut out = Vec::new();
+        self.swept = false;
         if n < 2 {
             return out;
         }
+        if self.sweep_pairs(centres, radii, &mut out) {
+            self.swept = true;
+            out.sort_unstable();
+            return out;
+        }
+        out.clear();
+        self.cell_pairs(centres, radii, &mut out);
+        out.sort_unstable();
+        out
+    }
+
+    /// Sweep and prune along the axis the histogram estimate picks (module docs):
+    /// appends every overlapping pair to `out` and returns `true`, or returns `false`
+    /// (`out` then holds a part) if the layout does not suit a sweep.
+    fn sweep_pairs(&mut self, centres: &[Vec3], radii: &[f64], out: &mut Vec<(u32, u32)>) -> bool {
+        let n = centres.len();
+        let (mut lo, mut hi) = (centres[0], centres[0]);
+        let mut r_sum = 0.0;
+        for (c, &r) in centres.iter().zip(radii) {
+            lo = lo.inf(c);
+            hi = hi.sup(c);
+            r_sum += r;
+        }
+        let extent = hi - lo;
+        // Per axis, the candidate checks a sweep along it would make, from a histogram
+        // of the centres on it: bin `b`'s items each check those starting within their
+        // interval, `count_b x 2 r_mean / bin width` of them.
+        let diameter = 2.0 * r_sum / n as f64;
+        let mut best = (f64::INFINITY, 0);
+        for axis in 0..3 {
+            let width = extent[axis] / BINS as f64;
+            if width.is_nan() || width <= 0.0 {
+                continue;
+            }
+            let mut counts = [0u32; BINS];
+            for c in centres {
+                let b = ((c[axis] - lo[axis]) / width) as usize;
+                counts[b.min(BINS - 1)] += 1;
+            }
+            let squares: f64 = counts.iter().map(|&k| f64::from(k) * f64::from(k)).sum();
+            let checks = squares * diameter / width;
+            if checks < best.0 {
+                best = (checks, axis);
+            }
+        }
+        let (checks, axis) = best;
+        let expected = checks / n as f64;
+        if expected.is_nan() || expected > SWEEP_EXPECTED {
+            return false;
+        }
+        let order = &mut self.sweep;
+        order.clear();
+        order.extend(
+            centres
+                .iter()
+                .zip(radii)
+                .enumerate()
+                .map(|(i, (c, &r))| (c[axis] - r, i as u32)),
+        );
+        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Rounding of the interval ends must not lose a pair: a start counts as inside an
+        // interval up to a slack far above the rounding and far below any radius.
+        let slack = 1e-9 * (extent[axis] + lo[axis].abs() + hi[axis].abs());
+        let mut budget = SWEEP_BUDGET * n + 64;
+        for (k, &(_, i)) in order.iter().enumerate() {
+            let i = i as usize;
+            let (ci, ri) = (centres[i], radii[i]);
+            let end = ci[axis] + ri + slack;
+            for &(start, j) in &order[k + 1..] {
+                if start >= end {
+                    break;
+                }
+                if budget == 0 {
+                    return false;
+                }
+                budget -= 1;
+                let j = j as usize;
+                let reach = ri + radii[j];
+                if (centres[j] - ci).norm_squared() < reach * reach {
+                    out.push((i.min(j) as u32, i.max(j) as u32));
+                }
+            }
+        }
+        true
+    }
+
+    /// The cell list (module docs): appends every overlapping pair to `out`.
+    fn cell_pairs(&mut self, centres: &[Vec3], radii: &[f64], out: &mut Vec<(u32, u32)>) {
+        let n = centres.len();
         let mut sorted_r: Vec<f64> = radii.to_vec();
         sorted_r.sort_unstable_by(f64::total_cmp);
         // Cells of twice the 90th-percentile radius: every item up to it finds its pairs
@@ -175,19 +289,17 @@ impl CellList {
         for (i, &r) in radii.iter().enumerate() {
             if !big(r) {
                 let reach = (2.0 * r / cell).ceil() as i64;
-                scan(&self.fine, i, reach, &mut out);
+                scan(&self.fine, i, reach, out);
             }
         }
         if let Some(r_big) = r_big {
             self.coarse.build(centres, 2.0 * r_big);
             for (i, &r) in radii.iter().enumerate() {
                 if big(r) {
-                    scan(&self.coarse, i, 1, &mut out);
+                    scan(&self.coarse, i, 1, out);
                 }
             }
         }
-        out.sort_unstable();
-        out
     }
 }
 
@@ -209,51 +321,133 @@ mod tests {
         v
     }
 
+    /// `n` centres uniform in the box `lo..hi`; radii mostly small, every `big`-th very
+    /// large (a fast shot's reach), the next one a fixed value (equal-radius ties).
+    fn cloud(
+        rng: &mut rand_chacha::ChaCha8Rng,
+        n: usize,
+        lo: Vec3,
+        hi: Vec3,
+        big: usize,
+    ) -> (Vec<Vec3>, Vec<f64>) {
+        let centres = (0..n)
+            .map(|_| Vec3::from_fn(|a, _| rng.random_range(lo[a]..hi[a])))
+            .collect();
+        let radii = (0..n)
+            .map(|k| match k % big {
+                0 => rng.random_range(2e-3..6e-3),
+                1 => 4e-4,
+                _ => rng.random_range(2e-4..8e-4),
+            })
+            .collect();
+        (centres, radii)
+    }
+
+    /// The public call's pairs, checked against brute force, and whether it swept.
+    fn checked(
+        cells: &mut CellList,
+        centres: &[Vec3],
+        radii: &[f64],
+        swept: bool,
+        what: &str,
+    ) -> Vec<(u32, u32)> {
+        let got = cells.pairs(centres, radii);
+        assert_eq!(got, brute(centres, radii), "{what}");
+        assert_eq!(cells.swept, swept, "{what}: swept");
+        got
+    }
+
     #[test]
     fn matches_brute_force_for_mixed_radii_in_both_layouts() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         for trial in 0..20 {
-            let n = 300;
-            let centres: Vec<Vec3> = (0..n)
-                .map(|_| {
-                    Vec3::new(
-                        rng.random_range(-0.01..0.01),
-                        rng.random_range(-0.01..0.01),
-                        rng.random_range(0.0..0.02),
-                    )
-                })
-                .collect();
-            // Mostly small radii, a few very large ones (fast shots), some equal ties.
-            let radii: Vec<f64> = (0..n)
-                .map(|k| match k % 17 {
-                    0 => rng.random_range(2e-3..6e-3),
-                    1 => 4e-4,
-                    _ => rng.random_range(2e-4..8e-4),
-                })
-                .collect();
-            let got = CellList::default().pairs(&centres, &radii);
-            assert_eq!(got, brute(&centres, &radii), "trial {trial}");
+            let (centres, radii) = cloud(
+                &mut rng,
+                300,
+                Vec3::new(-0.01, -0.01, 0.0),
+                Vec3::new(0.01, 0.01, 0.02),
+                17,
+            );
+            let mut cells = CellList::default();
+            let got = checked(
+                &mut cells,
+                &centres,
+                &radii,
+                false,
+                &format!("trial {trial}: a compact cloud"),
+            );
             assert!(!got.is_empty());
             // Spread over a box too large for a dense grid (the hashed layout): two
             // clumps a metre apart.
-            let spread: Vec<Vec3> = centres
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    if k % 2 == 0 {
-                        *c
-                    } else {
-                        c + Vec3::new(1.0, 1.0, 1.0)
-                    }
-                })
+            let far = Vec3::new(1.0, 1.0, 1.0);
+            let spread: Vec<Vec3> = (0..centres.len())
+                .map(|k| centres[k] + far * (k % 2) as f64)
                 .collect();
             let mut cells = CellList::default();
-            let got = cells.pairs(&spread, &radii);
+            let mut got = Vec::new();
+            cells.cell_pairs(&spread, &radii, &mut got);
+            got.sort_unstable();
             assert!(
                 !cells.fine.dense,
                 "trial {trial}: the grid should be hashed"
             );
             assert_eq!(got, brute(&spread, &radii), "trial {trial}, spread");
+            // The public call sweeps this layout (two clumps far apart along a diagonal).
+            checked(
+                &mut cells,
+                &spread,
+                &radii,
+                true,
+                &format!("trial {trial}: two far clumps"),
+            );
+        }
+    }
+
+    #[test]
+    fn a_stream_is_swept_and_a_bunched_layout_falls_back_to_cells() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for trial in 0..20 {
+            // A nozzle stream: 400 shots strung along 0.2 m in a 3 mm column, a few with
+            // large reach (fast shots), interval ends landing on each other's starts.
+            let (mut centres, radii) = cloud(
+                &mut rng,
+                400,
+                Vec3::new(-1.5e-3, -1.5e-3, 0.0),
+                Vec3::new(1.5e-3, 1.5e-3, 0.2),
+                23,
+            );
+            // Exact touching along the axis: item 2's interval starts where item 3's ends.
+            centres[2] = Vec3::new(0.0, 0.0, 0.1);
+            centres[3] = Vec3::new(0.0, 0.0, 0.1 - radii[2] - radii[3]);
+            let mut cells = CellList::default();
+            let got = checked(
+                &mut cells,
+                &centres,
+                &radii,
+                true,
+                &format!("trial {trial}: a stream"),
+            );
+            assert!(!got.is_empty());
+            // Most of them bunched in a millimetre at one end, a few spread far along the
+            // axis: the bounding box looks sparse, the sweep exceeds its budget.
+            let bunched: Vec<Vec3> = centres
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    if k % 40 == 0 {
+                        *c
+                    } else {
+                        Vec3::new(c.x * 0.3, c.y * 0.3, c.z * 5e-3)
+                    }
+                })
+                .collect();
+            checked(
+                &mut cells,
+                &bunched,
+                &radii,
+                false,
+                &format!("trial {trial}: a bunched layout"),
+            );
         }
     }
 }
