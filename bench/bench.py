@@ -2,6 +2,7 @@
 """peenflow benchmarks (never run as tests; numbers go to docs/performance.md).
 
 usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--effects]
+                             [--check-matched 'KEY = VALUE; ...']
 
   default     benchmarks (a)-(d) at 1 and 2 threads: wall time, particle-steps/s,
               contacts/s, wall time per simulated ms, peak memory (RSS of the process)
@@ -13,6 +14,8 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--effec
               a fixed 20 ns step, LIGGGHTS' step for these shots); the stream scenes
               run in five interleaved rounds (LIGGGHTS, then each peenflow variant),
               each round's matched ratio is printed, and the fastest run of each counts
+  --check-matched 'KEY = VALUE; ...'  only the accuracy checks of --liggghts, for the
+              [integrator] keys given instead of the matched setting (no LIGGGHTS needed)
   --liggghts-scale  the stream at LIGGGHTS' accuracy for N = 10,000, 50,000 and 200,000
               shots (the column widens with N as in stream.in: same volume fraction and
               height), one run of each code per N, and the ratio per N (about 8 minutes)
@@ -133,6 +136,8 @@ def liggghts_loop_times(log):
 
 # peenflow at LIGGGHTS' accuracy (checked by `liggghts` on single impacts).
 MATCHED = "[integrator]\ntolerance = 1e-4\n"
+# LIGGGHTS' Coulomb friction (0.3) at both contacts.
+FRICTION = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n"
 
 
 def liggghts_inputs(tmp, names):
@@ -144,45 +149,10 @@ def liggghts_inputs(tmp, names):
         shutil.copy(os.path.join(inputs, f), tmp)
 
 
-def liggghts(tmp):
-    liggghts_inputs(tmp, ("stream.in", "dense.in"))
-    def liggghts_loop(name, args, timed):
-        run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
-        return sum(liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())[-timed:])
-
-    # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
-    # (tolerance 1e-6), and at LIGGGHTS' accuracy (tolerance 1e-4), checked below on
-    # head-on and oblique shot-shot collisions and on a shot-specimen impact.
-    matched = MATCHED
-    text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
-    fast_scene = os.path.join(tmp, "pack_matched.toml")
-    open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
-    # LIGGGHTS' contacts carry Coulomb friction (0.3); peenflow's pack is frictionless
-    # unless asked: the same pack with friction 0.3 at both contacts.
-    fric = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n"
-    fric_scene = os.path.join(tmp, "pack_matched_friction.toml")
-    open(fric_scene, "w").write(text.replace("[effects]", matched + fric + "[effects]"))
-    # The machine is shared and noisy: the stream scenes (a few seconds each) run in
-    # REPEATS rounds, each round LIGGGHTS once and every peenflow variant once (a slow
-    # spell of the machine then hits both), and the fastest run of each counts.
-    results, best = {"stream": float("inf")}, {}
-    stream_args = ["-in", "stream.in", "-var", "N", "10000"]
-    for k in range(REPEATS):
-        lg = liggghts_loop("stream", stream_args, 1)
-        results["stream"] = min(results["stream"], lg)
-        for tag, scene in [("ps", os.path.join(SCENES, "pack_stream_10k.toml")), ("ps_fast", fast_scene), ("ps_fric", fric_scene)]:
-            r = peenflow(scene, 1, tmp, tag)
-            if tag not in best or r["wall"] < best[tag]["wall"]:
-                best[tag] = r
-            if tag == "ps_fast":
-                print(f"round {k + 1}: LIGGGHTS stream {lg:.2f} s, peenflow matched {r['wall']:.2f} s: {lg / r['wall']:.2f}x")
-        sys.stdout.flush()
-    ps, ps_fast, ps_fric = best["ps"], best["ps_fast"], best["ps_fric"]
-    results["dense"] = liggghts_loop("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2)
-    win_scene = os.path.join(tmp, "pack_windows.toml")
-    open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
-    ps_win = peenflow(win_scene, 1, tmp, "ps_win")
-    bed = peenflow(os.path.join(SCENES, "bed_10k.toml"), 1, tmp, "bed")
+def matched_checks(tmp, matched, fric=FRICTION):
+    """Checks that `matched` (an [integrator] table) is at least as accurate as LIGGGHTS'
+    20 ns velocity-Verlet step on single impacts; raises AssertionError if not."""
+    label = f"peenflow {' '.join(matched.split()[1:])}"
     # Accuracy check on the single shot: adaptive at the default tolerance vs a 20 ns step.
     acc = os.path.join(tmp, "acc")
     run([BIN, "accuracy", os.path.join(ROOT, "examples", "single_shot.toml"), "--out", acc, "--force", "-j", "1"], tmp)
@@ -224,7 +194,6 @@ nozzle_wall_contact = false
         rows = sorted(csv.DictReader(open(os.path.join(out, "shots.csv"))), key=lambda r: int(r["shot"]))
         return [float(r[k]) for r in rows for k in ("vx_m_s", "vy_m_s", "vz_m_s")]
 
-    label = "peenflow tolerance 1e-4"
     verlet = '[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\n'
     pair = contact_scene(
         shot("[0.0, 0.0, 5.0]", "[0.0, 0.0, 49.0]") + shot("[0.0, 0.0, 6.0]", "[0.0, 0.0, -70.0]"),
@@ -286,6 +255,48 @@ nozzle_wall_contact = false
         e_v = max(abs(a - b) for a, b in zip(velocities(scene, verlet, "v"), velocities(scene, converged, "ref"))) / speed
         print(f"outgoing-velocity and spin error with friction 0.3, {name}: {label}: {e_m:.2e}; velocity Verlet 20 ns without friction: {e_v:.2e}")
         assert e_m <= e_v, f"the matched setting with friction is less accurate than a frictionless 20 ns Verlet step ({name})"
+
+
+def liggghts(tmp):
+    liggghts_inputs(tmp, ("stream.in", "dense.in"))
+    def liggghts_loop(name, args, timed):
+        run(["liggghts"] + args + ["-log", f"log.{name}", "-screen", f"screen.{name}"], tmp)
+        return sum(liggghts_loop_times(open(os.path.join(tmp, f"log.{name}")).read())[-timed:])
+
+    # peenflow on the same scenes (one thread, as LIGGGHTS here): at its default accuracy
+    # (tolerance 1e-6), and at LIGGGHTS' accuracy (tolerance 1e-4), checked below on
+    # head-on and oblique shot-shot collisions and on a shot-specimen impact.
+    matched = MATCHED
+    text = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()
+    fast_scene = os.path.join(tmp, "pack_matched.toml")
+    open(fast_scene, "w").write(text.replace("[effects]", matched + "[effects]"))
+    # LIGGGHTS' contacts carry Coulomb friction (0.3); peenflow's pack is frictionless
+    # unless asked: the same pack with friction 0.3 at both contacts.
+    fric = FRICTION
+    fric_scene = os.path.join(tmp, "pack_matched_friction.toml")
+    open(fric_scene, "w").write(text.replace("[effects]", matched + fric + "[effects]"))
+    # The machine is shared and noisy: the stream scenes (a few seconds each) run in
+    # REPEATS rounds, each round LIGGGHTS once and every peenflow variant once (a slow
+    # spell of the machine then hits both), and the fastest run of each counts.
+    results, best = {"stream": float("inf")}, {}
+    stream_args = ["-in", "stream.in", "-var", "N", "10000"]
+    for k in range(REPEATS):
+        lg = liggghts_loop("stream", stream_args, 1)
+        results["stream"] = min(results["stream"], lg)
+        for tag, scene in [("ps", os.path.join(SCENES, "pack_stream_10k.toml")), ("ps_fast", fast_scene), ("ps_fric", fric_scene)]:
+            r = peenflow(scene, 1, tmp, tag)
+            if tag not in best or r["wall"] < best[tag]["wall"]:
+                best[tag] = r
+            if tag == "ps_fast":
+                print(f"round {k + 1}: LIGGGHTS stream {lg:.2f} s, peenflow matched {r['wall']:.2f} s: {lg / r['wall']:.2f}x")
+        sys.stdout.flush()
+    ps, ps_fast, ps_fric = best["ps"], best["ps_fast"], best["ps_fric"]
+    results["dense"] = liggghts_loop("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2)
+    win_scene = os.path.join(tmp, "pack_windows.toml")
+    open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
+    ps_win = peenflow(win_scene, 1, tmp, "ps_win")
+    bed = peenflow(os.path.join(SCENES, "bed_10k.toml"), 1, tmp, "bed")
+    matched_checks(tmp, matched, fric)
     print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread) | LIGGGHTS / peenflow |")
     print("|---|---|---|---|")
     lg = results["stream"]
@@ -322,9 +333,21 @@ def liggghts_scale(tmp):
 
 
 def main():
-    args = set(sys.argv[1:])
+    argv = sys.argv[1:]
+    check = None
+    if "--check-matched" in argv:
+        i = argv.index("--check-matched")
+        if i + 1 >= len(argv):
+            sys.exit("--check-matched needs the [integrator] keys, e.g. 'tolerance = 1e-4; contact_steps = 10'")
+        check = "[integrator]\n" + "".join(k.strip() + "\n" for k in argv[i + 1].split(";"))
+        del argv[i:i + 2]
+    args = set(argv)
     subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
     with tempfile.TemporaryDirectory() as tmp:
+        if check is not None:
+            matched_checks(tmp, check)
+            print("all accuracy checks passed")
+            return
         if "--liggghts" in args:
             liggghts(tmp)
         if "--liggghts-scale" in args:

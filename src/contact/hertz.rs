@@ -177,7 +177,7 @@ pub fn restitution_for_damping(alpha: f64) -> f64 {
             0.0
         };
     };
-    let mut w = Dopri5::new(2);
+    let mut w = Dopri5::<[f64; 2]>::fixed();
     let (mut y, mut y_new, mut err) = ([0.0, 1.0], [0.0; 2], [0.0; 2]);
     let (mut t, mut h) = (0.0, 1e-6);
     let tol = 1e-12;

@@ -191,7 +191,9 @@ fn solve(alpha: f64, q: f64, eps: f64) -> Option<[f64; VALUES]> {
         dy[1] = -force - q * shrink * shrink * shrink;
         dy[2] = shrink * shrink;
     };
-    let mut w = Dopri5::new(3);
+    // On the stack, so the stage loops unroll (same results as the `Vec` workspace): the
+    // pack stream's 611 nodes took 3 % of its instructions with the `Vec`, 1.6 % now.
+    let mut w = Dopri5::<[f64; 3]>::fixed();
     let (mut y, mut y_new, mut err) = ([0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]);
     let mut steps: Vec<DenseStep> = Vec::with_capacity(256);
     let (mut t, mut h) = (0.0, 1e-6);
