@@ -44,6 +44,30 @@ duration_ms = 2.0
 }
 
 #[test]
+fn regular_arrivals_deliver_rate_times_duration_shots_at_k_over_rate() {
+    // (shots/s, feeding ms): rate x duration is a whole number of shots, the last one
+    // entering one interval before the feed ends. A running sum of 1/rate ends a hair
+    // short of the duration and let one more shot in (10,001 at 40,000/s for 250 ms).
+    for (rate, ms, n) in [
+        (40_000.0, 250.0, 10_000usize),
+        (5_000.0, 200.0, 1_000),
+        (3_000.0, 10.0, 30),
+        (7_000.0, 30.0, 210),
+    ] {
+        let text = format!(
+            "duration_ms = {ms}\n[shots.feed]\ntype = \"stream\"\nrate_per_s = {rate}\nduration_ms = {ms}\narrivals = \"regular\"\n"
+        );
+        let scene = Scene::from_toml(&text, "regular.toml").unwrap();
+        let shots = peenflow::feed::initial_shots(&scene).unwrap();
+        assert_eq!(shots.len(), n, "{rate} shots/s for {ms} ms");
+        for (k, s) in shots.iter().enumerate() {
+            // Exactly k / rate: nothing held these shots back at the inlet.
+            assert_eq!(s.t_start, k as f64 / rate, "shot {k} at {rate}/s");
+        }
+    }
+}
+
+#[test]
 fn discrete_sizes_follow_their_weights() {
     let text = r#"
 [shots.size_distribution]
