@@ -133,6 +133,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         domain: scene.domain,
         max_step: scene.integrator.max_step,
         method: scene.integrator.method,
+        sliding: true,
     }
 }
 
@@ -565,6 +566,14 @@ impl Simulation {
     /// [`PARALLEL_MIN_SHOTS`]). Results do not depend on it, nor on the thread count.
     pub fn with_parallel_min_shots(mut self, n: usize) -> Self {
         self.parallel_min_shots = n;
+        self
+    }
+
+    /// Whether a lone frictionless shot whose specimen contact has settled slides on the
+    /// specimen (default) or steps through the pressed contact's oscillation until it
+    /// leaves (`Physics::sliding`). For comparisons: both follow the same motion.
+    pub fn with_sliding(mut self, on: bool) -> Self {
+        self.physics.sliding = on;
         self
     }
 

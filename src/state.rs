@@ -69,6 +69,11 @@ pub struct ShotState {
     pub region: Region,
     /// In contact with the specimen.
     pub on_specimen: bool,
+    /// Sliding on the specimen: a lone shot whose persistent specimen contact has settled
+    /// moves in its plane, its overlap set by the static balance of its load (see
+    /// [`crate::integrate::island`], `slide`), instead of stepping through the pressed
+    /// contact's oscillation.
+    pub sliding: bool,
     /// Step-duration estimate of the current specimen contact (Hertz time), s.
     pub specimen_contact_time: f64,
     /// Onset time of the current specimen contact, s.
@@ -118,6 +123,7 @@ impl ShotState {
             status: ShotStatus::Active,
             region: Region::Outside,
             on_specimen: false,
+            sliding: false,
             specimen_contact_time: 0.0,
             specimen_onset: 0.0,
             on_wall: false,

@@ -14,7 +14,7 @@ use peenflow::contact::{
 use peenflow::forces::{ForceSet, GravityModel, ShotBody};
 use peenflow::integrate::island::{IslandOutput, IslandPair, Physics, Scratch, advance_observed};
 use peenflow::scene::Scene;
-use peenflow::sim::Simulation;
+use peenflow::sim::{Scheduler, Simulation};
 use peenflow::state::{Domain, ShotId, ShotState, ShotStatus};
 
 fn body(d: f64, rho: f64) -> ShotBody {
@@ -49,6 +49,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
         },
         max_step: 1e-3,
         method: peenflow::integrate::island::Method::Adaptive,
+        sliding: true,
     }
 }
 
@@ -546,6 +547,117 @@ fn shots_resting_on_the_specimen_for_one_second() {
     }
     let e1: f64 = out.shots.iter().map(energy).sum();
     assert!(e1 <= e0, "energy gained: {e1} > {e0}");
+}
+
+#[test]
+fn a_shot_sliding_on_the_specimen_keeps_its_speed_and_the_static_overlap() {
+    // A frictionless shot dropped onto the specimen with a tangential speed, under
+    // gravity only: once its contact settles it slides at that speed forever, at the
+    // static overlap (m g / K)^(2/3). With sliding the run follows the contact's
+    // oscillation only until it settles; without, it steps through it to the end.
+    let b = body(0.8e-3, 7850.0);
+    let g = 9.80665;
+    let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    let (t_end, v0, p0) = (
+        0.2,
+        Vec3::new(0.5, 0.2, -0.01),
+        Vec3::new(1e-3, -2e-3, b.radius + 1e-6),
+    );
+    let static_overlap = (b.mass * g / law.stiffness(b.radius)).powf(2.0 / 3.0);
+    for scheduler in [Scheduler::Windows, Scheduler::Events] {
+        let run = |sliding: bool| {
+            let mut phys = physics(Some(law), None, g);
+            phys.sliding = sliding;
+            let shot = ShotState::new(ShotId(0), p0, v0, b, 0.0);
+            let out = Simulation::from_parts(phys, vec![shot], t_end)
+                .with_scheduler(scheduler)
+                .run(&|_| {});
+            assert_eq!(out.shots[0].status, ShotStatus::Active);
+            (out.shots[0].clone(), out.impacts)
+        };
+        let (slid, slid_impacts) = run(true);
+        let (stepped, stepped_impacts) = run(false);
+        for s in [&slid, &stepped] {
+            // Nothing acts along the plane: uniform motion, to 1e-9 m over 0.1 m.
+            let along = s.pos - p0 - v0 * t_end;
+            assert!(
+                along.x.abs() < 1e-9 && along.y.abs() < 1e-9,
+                "{scheduler:?}: off the uniform slide by {along:?}"
+            );
+        }
+        let overlap = |s: &ShotState| b.radius - s.pos.z;
+        assert!(
+            (overlap(&slid) - static_overlap).abs() < 1e-9 * static_overlap && slid.vel.z == 0.0,
+            "{scheduler:?}: sliding at overlap {:.6e} (static {static_overlap:.6e}), normal speed {}",
+            overlap(&slid),
+            slid.vel.z
+        );
+        assert!(
+            (overlap(&stepped) - static_overlap).abs() < 1e-2 * static_overlap,
+            "{scheduler:?}: settled at overlap {:.6e} (static {static_overlap:.6e})",
+            overlap(&stepped)
+        );
+        // The bounces before the contact settles are the same impacts.
+        assert_eq!(slid_impacts, stepped_impacts, "{scheduler:?}");
+        println!(
+            "{scheduler:?}: {} impacts; {} steps sliding, {} stepping through the contact",
+            slid_impacts.len(),
+            slid.steps,
+            stepped.steps
+        );
+        assert!(
+            20 * slid.steps < stepped.steps,
+            "{scheduler:?}: {} steps sliding against {} without",
+            slid.steps,
+            stepped.steps
+        );
+    }
+}
+
+#[test]
+fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
+    // Without shot-shot contact, shots that land under the jet bounce, then slide
+    // outward on the specimen pressed by the air (docs/performance.md): sliding must give
+    // the stepped run's impacts and final states, for far fewer steps.
+    let text = r#"
+duration_ms = 50.0
+[effects]
+shot_shot_contact = false
+[shots.feed]
+type = "stream"
+rate_per_s = 4000.0
+duration_ms = 10.0
+entry_speed_m_s = 5.0
+arrivals = "regular"
+"#;
+    let scene = Scene::from_toml(text, "slide.toml").unwrap();
+    let run = |sliding: bool| {
+        Simulation::new(&scene, &scene.effects())
+            .unwrap()
+            .with_sliding(sliding)
+            .run(&|_| {})
+    };
+    let (slid, stepped) = (run(true), run(false));
+    assert_eq!(slid.impacts, stepped.impacts);
+    let sliding_at_end = slid.shots.iter().filter(|s| s.sliding).count();
+    assert!(sliding_at_end > 0, "no shot slid");
+    for (a, b) in slid.shots.iter().zip(&stepped.shots) {
+        assert_eq!(a.status, b.status);
+        // The stepped contact's residual oscillation: nanometres, below 1e-3 m/s.
+        let (dp, dv) = ((a.pos - b.pos).norm(), (a.vel - b.vel).norm());
+        assert!(
+            dp < 1e-9 && dv < 1e-3,
+            "shot {}: positions {dp:.2e} m apart, velocities {dv:.2e} m/s",
+            a.id.0
+        );
+    }
+    println!(
+        "{} shots, {sliding_at_end} sliding at the end: {} shot-steps sliding, {} stepping through the contacts",
+        slid.shots.len(),
+        slid.work.shot_steps,
+        stepped.work.shot_steps
+    );
+    assert!(3 * slid.work.shot_steps < stepped.work.shot_steps);
 }
 
 #[test]

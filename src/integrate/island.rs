@@ -65,7 +65,18 @@ pub struct Physics {
     pub max_step: f64,
     /// Integration method.
     pub method: Method,
+    /// Whether a lone frictionless shot whose specimen contact has settled slides on
+    /// the specimen (`ShotState::sliding`) instead of stepping through the pressed
+    /// contact's oscillation (default `true`; `false` for comparisons).
+    pub sliding: bool,
 }
+
+/// Largest normal speed (m/s) of a settled specimen contact that may turn into sliding.
+const SLIDE_SPEED: f64 = 1e-3;
+
+/// Largest relative difference between a settled contact's overlap and the static
+/// overlap under its load for it to turn into sliding.
+const SLIDE_OVERLAP: f64 = 1e-2;
 
 /// A shot-shot pair that may touch during the window (local member indices).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -290,6 +301,49 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// Sliding on the specimen for a lone shot (`y` its state): it starts once the shot's
+    /// specimen contact is persistent (older than three Hertz durations) and has
+    /// settled (normal speed below [`SLIDE_SPEED`], overlap within [`SLIDE_OVERLAP`] of
+    /// the static overlap `(F / K)^(2/3)` under the load `F` its forces press it with);
+    /// it ends when they no longer press it onto the specimen (the overlap then pushes
+    /// it off as the contact would). While it lasts, the overlap follows the load, set
+    /// here after every step. Returns whether the state or the right-hand side changed.
+    fn slide(&self, m: &mut ShotState, t: f64, y: &mut [f64], work: &mut WorkCounters) -> bool {
+        let Some(sp) = &self.phys.contacts.specimen else {
+            return false;
+        };
+        if !m.on_specimen || !moving(m, t) {
+            let was = m.sliding;
+            m.sliding = false;
+            return was;
+        }
+        let (p, v) = (pos(y, 0), vel(y, 0));
+        if !m.sliding
+            && (t - m.specimen_onset <= 3.0 * m.specimen_contact_time || v.z.abs() > SLIDE_SPEED)
+        {
+            return false;
+        }
+        let a = self
+            .phys
+            .forces
+            .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
+        let load = -a.z * m.body.mass;
+        if load <= 0.0 {
+            let was = m.sliding;
+            m.sliding = false;
+            return was;
+        }
+        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+        let delta = (load / k).powf(2.0 / 3.0);
+        if !m.sliding && (-sp.gap(&p, m.body.radius) - delta).abs() > SLIDE_OVERLAP * delta {
+            return false;
+        }
+        y[2] += -delta - sp.gap(&p, m.body.radius);
+        y[5] = 0.0;
+        m.sliding = true;
+        true
+    }
+
     /// Whether a contact of Hertz time `tc` that touched at `onset` is an impact still
     /// within a contact step of its touch at `t` (closing speed at least
     /// `RAMP_MIN_SPEED` at the onset, read back from `tc ~ v^(-1/5)`).
@@ -328,6 +382,12 @@ impl Ctx<'_> {
                 .phys
                 .forces
                 .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
+            if m.sliding {
+                // In the specimen's plane; the contact carries the normal load.
+                let d = &mut dy[6 * i..6 * i + 6];
+                d.copy_from_slice(&[v.x, v.y, 0.0, a.x, a.y, 0.0]);
+                continue;
+            }
             if let Some(sp) = &c.specimen {
                 work.specimen_contact_checks += 1;
                 let gap = sp.gap(&p, m.body.radius);
@@ -472,7 +532,9 @@ impl Ctx<'_> {
             if let Some(field) = field {
                 g = g.min(field.margin(&field.coords(&p), m.region));
             }
-            if let Some(sp) = specimen {
+            if let Some(sp) = specimen
+                && !m.sliding
+            {
                 if !m.on_specimen {
                     g = g.min(sp.gap(&p, m.body.radius));
                 } else if pushing.specimen[i] {
@@ -968,7 +1030,9 @@ impl Ctx<'_> {
             }
             let p = pos(y, i);
             let v = vel(y, i);
-            if let Some(sp) = &c.specimen {
+            if let Some(sp) = &c.specimen
+                && !m.sliding
+            {
                 if m.on_specimen {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                     let overlap = -sp.gap(&p, m.body.radius);
@@ -1568,6 +1632,18 @@ fn advance_adaptive(
     for m in members.iter_mut() {
         m.ahead = None;
     }
+    // Only a lone shot slides on the specimen (frictionless, away from the nozzle wall):
+    // in an island it is pressed by its neighbours as well, and steps with them.
+    let slides = phys.sliding
+        && n == 1
+        && pairs.is_empty()
+        && phys.contacts.friction.is_none()
+        && !members[0].on_wall;
+    if !slides {
+        for m in members.iter_mut() {
+            m.sliding = false;
+        }
+    }
     // May the last step run past `t1` (see `advance_alone`)? Not again at a time where
     // a step that tried found an event in it.
     let alone = alone && n == 1 && pairs.is_empty();
@@ -1767,6 +1843,9 @@ fn advance_adaptive(
         } else {
             controller.max(h_wanted)
         };
+        if slides && ctx.slide(&mut members[0], t, y, &mut work) {
+            dopri.invalidate();
+        }
         observer(t, y);
         match ctx.end_of_step(
             members,
