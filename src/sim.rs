@@ -513,6 +513,9 @@ pub struct Simulation {
     lean_contacts: bool,
 }
 
+/// Shots the independent scheduler flies at a time when it streams its records.
+const INDEPENDENT_CHUNK: usize = 4096;
+
 /// Default of [`Simulation::with_parallel_min_shots`].
 pub const PARALLEL_MIN_SHOTS: usize = 256;
 
@@ -706,11 +709,14 @@ impl Simulation {
     /// the same order, either way.
     pub fn run_into(mut self, sink: &mut dyn RunSink, progress: &(dyn Fn(f64) + Sync)) -> RunTail {
         let scheduler = self.scheduler_in_use();
-        let streamed = scheduler == "windows" && self.snapshot_interval.is_none();
+        let streamed =
+            matches!(scheduler, "windows" | "independent") && self.snapshot_interval.is_none();
         if !streamed {
             self.materialise();
         }
-        if scheduler == "independent" {
+        if scheduler == "independent" && streamed {
+            self.run_independent_streamed(sink, progress);
+        } else if scheduler == "independent" {
             let mut shots = self.shots.take_all();
             self.run_independent(&mut shots, progress);
             self.shots = ShotStore::from_vec(shots);
@@ -783,12 +789,19 @@ impl Simulation {
 
     /// Sorts the impacts recorded since the last call by (time, shot) and hands them over.
     fn emit_impacts(&mut self, sink: &mut dyn RunSink) {
+        self.emit_impacts_before(sink, f64::INFINITY);
+    }
+
+    /// Sorts the impacts held by (time, shot) and hands over those before `t`, keeping
+    /// the rest.
+    fn emit_impacts_before(&mut self, sink: &mut dyn RunSink, t: f64) {
         self.impacts
             .sort_by(|a, b| a.time_s.total_cmp(&b.time_s).then(a.shot.cmp(&b.shot)));
-        if !self.impacts.is_empty() {
-            sink.impacts(&self.impacts);
+        let k = self.impacts.partition_point(|i| i.time_s < t);
+        if k > 0 {
+            sink.impacts(&self.impacts[..k]);
         }
-        self.impacts.clear();
+        self.impacts.drain(..k);
     }
 
     /// Creates every shot the stream will feed (runs that hold all their shots).
@@ -834,6 +847,59 @@ impl Simulation {
         out
     }
 
+    /// [`Simulation::run_independent`] on [`INDEPENDENT_CHUNK`] shots at a time, in entry
+    /// order, handing records over as they become final: a shot entering at `t` cannot
+    /// hit before `t`, so once every shot entering before `t` has flown to the end, the
+    /// impacts before `t` and the shots that stopped before it are final. The run holds
+    /// the impacts after that time and the shots not yet stopped, not every record.
+    fn run_independent_streamed(
+        &mut self,
+        sink: &mut dyn RunSink,
+        progress: &(dyn Fn(f64) + Sync),
+    ) {
+        let end = self.end;
+        let mut stopped: Vec<usize> = Vec::new();
+        loop {
+            let mut room = INDEPENDENT_CHUNK;
+            self.admit(|t| {
+                let due = t < end && room > 0;
+                room -= usize::from(due);
+                due
+            });
+            if self.live.is_empty() {
+                break;
+            }
+            let ids = std::mem::take(&mut self.live);
+            let mut chunk: Vec<ShotState> = ids.iter().map(|&i| self.shots[i].clone()).collect();
+            self.run_independent(&mut chunk, &|_| {});
+            for (&i, s) in ids.iter().zip(chunk) {
+                if s.t_stop.is_some() {
+                    stopped.push(i);
+                }
+                self.shots[i] = s;
+            }
+            // The next shot to enter (none: every record is final).
+            let next = self
+                .by_start
+                .get(self.admitted)
+                .map(|&i| self.shots[i].t_start)
+                .or_else(|| {
+                    self.feed
+                        .as_ref()
+                        .and_then(|(_, next)| next.as_ref().map(|s| s.t_start))
+                })
+                .filter(|&t| t < end)
+                .unwrap_or(f64::INFINITY);
+            self.emit_impacts_before(sink, next);
+            let (mut done, later): (Vec<usize>, Vec<usize>) = stopped
+                .iter()
+                .partition(|&&i| self.shots[i].t_stop.is_some_and(|t| t < next));
+            self.shots.release(&mut done, sink);
+            stopped = later;
+            progress(next.min(end) / end);
+        }
+    }
+
     /// No shot-shot contact: every shot flies alone over the whole run.
     fn run_independent(&mut self, shots: &mut [ShotState], progress: &(dyn Fn(f64) + Sync)) {
         let phys = &self.physics;
@@ -876,7 +942,7 @@ impl Simulation {
 
     /// Moves the shots of the feed's queue whose entry time passes `due` into `live`
     /// (kept ascending).
-    fn admit(&mut self, due: impl Fn(f64) -> bool) {
+    fn admit(&mut self, mut due: impl FnMut(f64) -> bool) {
         let mut added = false;
         while let Some(&i) = self.by_start.get(self.admitted) {
             if !due(self.shots[i].t_start) {
