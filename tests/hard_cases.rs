@@ -619,18 +619,7 @@ fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
     // Without shot-shot contact, shots that land under the jet bounce, then slide
     // outward on the specimen pressed by the air (docs/performance.md): sliding must give
     // the stepped run's impacts and final states, for far fewer steps.
-    let text = r#"
-duration_ms = 50.0
-[effects]
-shot_shot_contact = false
-[shots.feed]
-type = "stream"
-rate_per_s = 4000.0
-duration_ms = 10.0
-entry_speed_m_s = 5.0
-arrivals = "regular"
-"#;
-    let scene = Scene::from_toml(text, "slide.toml").unwrap();
+    let scene = stream_without_contact(4000.0, 10.0, 50.0);
     let run = |sliding: bool| {
         Simulation::new(&scene, &scene.effects())
             .unwrap()

@@ -3,6 +3,7 @@
 //! it holds the shots in flight, not every shot fed. The records must be exactly those of
 //! a run that creates every shot up front and sorts everything at the end.
 
+mod common;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;
 
@@ -88,18 +89,7 @@ fn an_independent_stream_hands_its_impacts_over_as_they_become_final() {
     // Without shot-shot contact every shot flies alone (independent scheduler), 4,096 at
     // a time in entry order: once all shots entering before t have flown to the end,
     // the impacts before t are final. 4,400 shots: two groups.
-    let text = r#"
-duration_ms = 115.0
-[effects]
-shot_shot_contact = false
-[shots.feed]
-type = "stream"
-rate_per_s = 40000.0
-duration_ms = 110.0
-entry_speed_m_s = 5.0
-arrivals = "regular"
-"#;
-    let scene = Scene::from_toml(text, "independent.toml").unwrap();
+    let scene = common::stream_without_contact(40_000.0, 110.0, 115.0);
     let effects = scene.effects();
     let sim = Simulation::new(&scene, &effects).unwrap();
     assert_eq!(sim.scheduler_in_use(), "independent");
