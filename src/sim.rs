@@ -704,9 +704,10 @@ impl Simulation {
     /// final. On windows without snapshots that happens during the run: impacts after
     /// each window, shots in the window they stopped, and a stream
     /// feed creates its shots as they enter, so the run holds the shots in flight rather
-    /// than every shot fed ([`RunTail::peak_shots_held`]). The event and independent
-    /// schedulers hold every shot and hand everything over at the end. Same records, in
-    /// the same order, either way.
+    /// than every shot fed ([`RunTail::peak_shots_held`]). The independent scheduler
+    /// without snapshots hands records over after each group of shots it flies (see
+    /// `run_independent_streamed`). The event scheduler holds every shot and hands
+    /// everything over at the end. Same records, in the same order, either way.
     pub fn run_into(mut self, sink: &mut dyn RunSink, progress: &(dyn Fn(f64) + Sync)) -> RunTail {
         let scheduler = self.scheduler_in_use();
         let streamed =
