@@ -57,6 +57,10 @@ pub struct WorkCounters {
     /// Event scheduler: contacts in progress continued on the lean path when all that a
     /// cluster still held was that contact (`events/lone.rs`).
     pub lean_continuations: u64,
+    /// Lone shots whose settled specimen contact turned into sliding on it
+    /// (frictionless) or rolling (with friction), no longer stepped through (counted at
+    /// each start: a rolling shot that slips and rolls again counts twice).
+    pub slides: u64,
 }
 
 impl WorkCounters {
@@ -84,5 +88,6 @@ impl WorkCounters {
         self.late_contacts += other.late_contacts;
         self.lean_contacts += other.lean_contacts;
         self.lean_continuations += other.lean_continuations;
+        self.slides += other.slides;
     }
 }

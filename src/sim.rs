@@ -572,8 +572,8 @@ impl Simulation {
         self
     }
 
-    /// Whether a lone frictionless shot whose specimen contact has settled slides on the
-    /// specimen (default) or steps through the pressed contact's oscillation until it
+    /// Whether a lone shot whose specimen contact has settled slides (with friction:
+    /// rolls) on the specimen (default) or steps through the pressed contact's oscillation until it
     /// leaves (`Physics::sliding`). For comparisons: both follow the same motion.
     pub fn with_sliding(mut self, on: bool) -> Self {
         self.physics.sliding = on;

@@ -72,7 +72,7 @@ pub struct ShotState {
     /// Sliding on the specimen: a lone shot whose persistent specimen contact has settled
     /// moves in its plane, its overlap set by the static balance of its load (see
     /// [`crate::integrate::island`], `slide`), instead of stepping through the pressed
-    /// contact's oscillation.
+    /// contact's oscillation; with friction it rolls (the contact point held still).
     pub sliding: bool,
     /// Step-duration estimate of the current specimen contact (Hertz time), s.
     pub specimen_contact_time: f64,

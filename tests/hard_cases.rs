@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::contact::{
-    ContactSet, HertzLaw, PairContact, SpecimenContact, effective_mass, hertz,
+    ContactSet, Friction, HertzLaw, PairContact, SpecimenContact, effective_mass, hertz,
 };
 use peenflow::forces::{ForceSet, GravityModel, ShotBody};
 use peenflow::integrate::island::{IslandOutput, IslandPair, Physics, Scratch, advance_observed};
@@ -617,36 +617,216 @@ fn a_shot_sliding_on_the_specimen_keeps_its_speed_and_the_static_overlap() {
 #[test]
 fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
     // Without shot-shot contact, shots that land under the jet bounce, then slide
-    // outward on the specimen pressed by the air (docs/performance.md): sliding must give
-    // the stepped run's impacts and final states, for far fewer steps.
-    let scene = stream_without_contact(4000.0, 10.0, 50.0);
-    let run = |sliding: bool| {
-        Simulation::new(&scene, &scene.effects())
-            .unwrap()
-            .with_sliding(sliding)
-            .run(&|_| {})
-    };
-    let (slid, stepped) = (run(true), run(false));
-    assert_eq!(slid.impacts, stepped.impacts);
-    let sliding_at_end = slid.shots.iter().filter(|s| s.sliding).count();
-    assert!(sliding_at_end > 0, "no shot slid");
-    for (a, b) in slid.shots.iter().zip(&stepped.shots) {
-        assert_eq!(a.status, b.status);
-        // The stepped contact's residual oscillation: nanometres, below 1e-3 m/s.
-        let (dp, dv) = ((a.pos - b.pos).norm(), (a.vel - b.vel).norm());
+    // outward on the specimen pressed by the air (docs/performance.md), or with friction
+    // roll: sliding and rolling must give the stepped run's impacts and final states,
+    // for far fewer steps.
+    for extra in ["", "[friction]\nshot_specimen = 0.3\n"] {
+        let scene = stream_without_contact(4000.0, 10.0, 50.0, extra);
+        let run = |sliding: bool| {
+            Simulation::new(&scene, &scene.effects())
+                .unwrap()
+                .with_sliding(sliding)
+                .run(&|_| {})
+        };
+        let (slid, stepped) = (run(true), run(false));
+        assert_eq!(slid.impacts, stepped.impacts, "{extra}");
+        let sliding_at_end = slid.shots.iter().filter(|s| s.sliding).count();
+        assert!(sliding_at_end > 0, "no shot slid: {extra}");
+        assert!(slid.work.slides >= sliding_at_end as u64);
+        assert_eq!(stepped.work.slides, 0);
+        for (a, b) in slid.shots.iter().zip(&stepped.shots) {
+            assert_eq!(a.status, b.status);
+            // The stepped contact's residual oscillation: nanometres, below 1e-3 m/s
+            // (spin: 1e-3 m/s at the shot's surface).
+            let (dp, dv, dw) = (
+                (a.pos - b.pos).norm(),
+                (a.vel - b.vel).norm(),
+                (a.omega - b.omega).norm() * a.body.radius,
+            );
+            assert!(
+                dp < 1e-9 && dv < 1e-3 && dw < 1e-3,
+                "{extra}shot {}: positions {dp:.2e} m apart, velocities {dv:.2e} m/s, spins {dw:.2e} m/s",
+                a.id.0
+            );
+        }
+        println!(
+            "{extra}{} shots, {sliding_at_end} sliding at the end ({} starts): {} shot-steps sliding, {} stepping through the contacts",
+            slid.shots.len(),
+            slid.work.slides,
+            slid.work.shot_steps,
+            stepped.work.shot_steps
+        );
+        assert!(3 * slid.work.shot_steps < stepped.work.shot_steps);
+    }
+}
+
+/// A shot on the specimen under gravity tilted by `theta` along +x (an incline), with
+/// friction `mu` on the specimen, dropped with a speed along the incline and across it;
+/// its final state after `t_end`, with or without rolling (`sliding`).
+fn on_incline(
+    theta: f64,
+    mu: f64,
+    across: f64,
+    t_end: f64,
+    sliding: bool,
+    scheduler: Scheduler,
+) -> (ShotState, u64) {
+    let b = body(0.8e-3, 7850.0);
+    let g = 9.80665;
+    let mut phys = physics(
+        Some(HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7)),
+        None,
+        g,
+    );
+    phys.forces.gravity = Some(GravityModel {
+        acceleration: Vec3::new(g * theta.sin(), 0.0, -g * theta.cos()),
+    });
+    phys.contacts.friction = Some(Friction {
+        specimen: mu,
+        shot: 0.0,
+        wall: 0.0,
+    });
+    phys.sliding = sliding;
+    let shot = ShotState::new(
+        ShotId(0),
+        Vec3::new(0.0, 0.0, b.radius + 1e-6),
+        Vec3::new(0.05, across, -0.01),
+        b,
+        0.0,
+    );
+    let out = Simulation::from_parts(phys, vec![shot], t_end)
+        .with_scheduler(scheduler)
+        .run(&|_| {});
+    assert_eq!(out.shots[0].status, ShotStatus::Active);
+    (out.shots[0].clone(), out.work.slides)
+}
+
+#[test]
+fn a_shot_rolls_and_slips_down_an_incline_as_rigid_body_theory_says() {
+    // Rigid-body theory of a solid sphere on an incline of angle theta with Coulomb
+    // friction mu: it rolls without slipping, at 5/7 g sin(theta) down the incline, if
+    // tan(theta) <= 7/2 mu; otherwise it slips, at g (sin(theta) - mu cos(theta)), and
+    // spins up at 5 mu g cos(theta) / (2 R). Once the drop's bounces have settled
+    // (before 0.05 s), the velocity gained from 0.05 to 0.1 s must follow it. Rolling
+    // shots roll (the contact point held still, `Ctx::slide`) to 1e-9, the stepped
+    // contact (the regularised law) to 1e-4; slipping ones (always stepped) to 1e-6.
+    let (g, r) = (9.80665, 0.4e-3);
+    let (t1, t2) = (0.05, 0.1);
+    for scheduler in [Scheduler::Windows, Scheduler::Events] {
+        // Rolling: tan(10 deg) = 0.18 < 7/2 0.3.
+        let theta = 10f64.to_radians();
+        let rolls = 5.0 / 7.0 * g * theta.sin() * (t2 - t1);
+        let mut steps = Vec::new();
+        for sliding in [true, false] {
+            let ((a, _), (b, starts)) = (
+                on_incline(theta, 0.3, 0.02, t1, sliding, scheduler),
+                on_incline(theta, 0.3, 0.02, t2, sliding, scheduler),
+            );
+            assert_eq!(starts, u64::from(sliding), "{scheduler:?}");
+            let tol = if sliding { 1e-9 } else { 1e-4 };
+            let dv = b.vel - a.vel;
+            println!(
+                "{scheduler:?}, rolling, sliding {sliding}: dv {dv:?} (theory {rolls:.9}), slip {:.2e} m/s, {} steps",
+                b.vel.x - r * b.omega.y,
+                b.steps
+            );
+            assert!(
+                (dv.x / rolls - 1.0).abs() < tol,
+                "{scheduler:?}: {} vs {rolls}",
+                dv.x
+            );
+            assert!(dv.y.abs() < tol * rolls, "{scheduler:?}: across {}", dv.y);
+            // Rolling: the contact point is still.
+            let slip = Vec3::new(b.vel.x - r * b.omega.y, b.vel.y + r * b.omega.x, 0.0);
+            assert!(
+                slip.norm() < tol * b.vel.norm(),
+                "{scheduler:?}: slip {slip:?}"
+            );
+            assert_eq!(b.sliding, sliding, "{scheduler:?}");
+            steps.push(b.steps);
+        }
         assert!(
-            dp < 1e-9 && dv < 1e-3,
-            "shot {}: positions {dp:.2e} m apart, velocities {dv:.2e} m/s",
-            a.id.0
+            20 * steps[0] < steps[1],
+            "{scheduler:?}: {} steps rolling against {} stepped",
+            steps[0],
+            steps[1]
+        );
+        // Slipping: tan(20 deg) = 0.36 > 7/2 0.05; it never rolls.
+        let (theta, mu) = (20f64.to_radians(), 0.05);
+        let (slips, spins) = (
+            g * (theta.sin() - mu * theta.cos()) * (t2 - t1),
+            2.5 * mu * g * theta.cos() / r * (t2 - t1),
+        );
+        // (Dropped straight down the incline: a slip across it would turn the friction.)
+        let ((a, _), (b, starts)) = (
+            on_incline(theta, mu, 0.0, t1, true, scheduler),
+            on_incline(theta, mu, 0.0, t2, true, scheduler),
+        );
+        assert_eq!(starts, 0, "{scheduler:?}: a slipping shot rolls");
+        println!(
+            "{scheduler:?}, slipping: dv {:?} (theory {slips:.9}), domega_y {} (theory {spins:.6})",
+            b.vel - a.vel,
+            b.omega.y - a.omega.y
+        );
+        assert!(((b.vel.x - a.vel.x) / slips - 1.0).abs() < 1e-6);
+        assert!(((b.omega.y - a.omega.y) / spins - 1.0).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn a_shot_rolling_out_of_the_jet_slips_then_rolls_again() {
+    // A shot rolling outward at 5 m/s on the specimen under the jet (friction 0.1): the
+    // air presses it down, and friction holds its contact point still. Leaving the
+    // jet's core, the air's push along the specimen grows faster than its press, until
+    // rolling would need more friction than mu F: there it slips (the end of rolling is
+    // located). Friction then spins it up to its speed and it rolls again. Both changes
+    // must happen, and the run must follow the stepped contact through them.
+    let scene = Scene::from_toml("[friction]\nshot_specimen = 0.1\n", "jet.toml").unwrap();
+    let phys = peenflow::sim::build_physics(&scene, &scene.effects());
+    let b = body(0.8e-3, 7850.0);
+    let (v, t_end) = (5.0, 0.02);
+    let run = |sliding: bool| {
+        let mut phys = phys.clone();
+        phys.sliding = sliding;
+        let mut shot = ShotState::new(
+            ShotId(0),
+            Vec3::new(1e-3, 0.0, b.radius + 1e-7),
+            Vec3::new(v, 0.0, -0.01),
+            b,
+            0.0,
+        );
+        shot.omega = Vec3::new(0.0, v / b.radius, 0.0);
+        let out = Simulation::from_parts(phys, vec![shot], t_end)
+            .with_scheduler(Scheduler::Events)
+            .run(&|_| {});
+        (out.shots[0].clone(), out.work.slides)
+    };
+    let ((rolled, starts), (stepped, _)) = (run(true), run(false));
+    for s in [&rolled, &stepped] {
+        println!(
+            "at {:?}, velocity {:?}, slip {:.3e} m/s, {} steps, rolling {}",
+            s.pos,
+            s.vel,
+            s.vel.x - b.radius * s.omega.y,
+            s.steps,
+            s.sliding
         );
     }
-    println!(
-        "{} shots, {sliding_at_end} sliding at the end: {} shot-steps sliding, {} stepping through the contacts",
-        slid.shots.len(),
-        slid.work.shot_steps,
-        stepped.work.shot_steps
+    assert_eq!(rolled.status, ShotStatus::Active);
+    // Rolled, slipped, rolled again.
+    assert_eq!(starts, 2);
+    assert!(rolled.sliding);
+    let (dp, dv) = (
+        (rolled.pos - stepped.pos).norm(),
+        (rolled.vel - stepped.vel).norm(),
     );
-    assert!(3 * slid.work.shot_steps < stepped.work.shot_steps);
+    assert!(dp < 1e-6 && dv < 1e-5, "{dp:.2e} m, {dv:.2e} m/s apart");
+    assert!(
+        5 * rolled.steps < stepped.steps,
+        "{} steps rolling against {} stepped",
+        rolled.steps,
+        stepped.steps
+    );
 }
 
 #[test]

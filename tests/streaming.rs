@@ -89,7 +89,7 @@ fn an_independent_stream_hands_its_impacts_over_as_they_become_final() {
     // Without shot-shot contact every shot flies alone (independent scheduler), 4,096 at
     // a time in entry order: once all shots entering before t have flown to the end,
     // the impacts before t are final. 4,400 shots: two groups.
-    let scene = common::stream_without_contact(40_000.0, 110.0, 115.0);
+    let scene = common::stream_without_contact(40_000.0, 110.0, 115.0, "");
     let effects = scene.effects();
     let sim = Simulation::new(&scene, &effects).unwrap();
     assert_eq!(sim.scheduler_in_use(), "independent");

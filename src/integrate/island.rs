@@ -65,8 +65,8 @@ pub struct Physics {
     pub max_step: f64,
     /// Integration method.
     pub method: Method,
-    /// Whether a lone frictionless shot whose specimen contact has settled slides on
-    /// the specimen (`ShotState::sliding`) instead of stepping through the pressed
+    /// Whether a lone shot whose specimen contact has settled slides (with friction:
+    /// rolls) on the specimen (`ShotState::sliding`) instead of stepping through the pressed
     /// contact's oscillation (default `true`; `false` for comparisons).
     pub sliding: bool,
 }
@@ -288,6 +288,22 @@ fn tangential_start(
     }
 }
 
+/// The friction force that keeps a shot rolling on the specimen (normal `+z`) under the
+/// acceleration `a` of its other forces, `F_t = -m_t a_t` (`m_t = 2/7 m`: the contact
+/// point then does not accelerate, see [`friction::sphere_on_wall_mass`]), and its ratio
+/// to the most the contact holds, `mu F` with the load `F = -m a_z` (infinite without
+/// load): rolling needs a ratio of at most 1.
+fn rolling_friction(mass: f64, a: &Vec3, mu: f64) -> (Vec3, f64) {
+    let ft = Vec3::new(a.x, a.y, 0.0) * -friction::sphere_on_wall_mass(mass);
+    let load = -a.z * mass;
+    let ratio = if load > 0.0 {
+        ft.norm() / (mu * load)
+    } else {
+        f64::INFINITY
+    };
+    (ft, ratio)
+}
+
 /// Whether member `m` moves at time `t`.
 #[inline]
 fn moving(m: &ShotState, t: f64) -> bool {
@@ -308,6 +324,13 @@ impl Ctx<'_> {
     /// it ends when they no longer press it onto the specimen (the overlap then pushes
     /// it off as the contact would). While it lasts, the overlap follows the load, set
     /// here after every step. Returns whether the state or the right-hand side changed.
+    ///
+    /// With friction on the specimen the shot rolls (see [`rolling_friction`]): it
+    /// starts only from a sticking contact (the regularised law's viscous branch, slip
+    /// below `mu F / gamma_t`), whose residual slip it removes with the impulse at the
+    /// contact point that stops it (`-m_t s`, a change of `2/7 s` in velocity); it ends
+    /// when rolling would take more friction than `mu F` (located, see
+    /// [`Ctx::event_margin`]): the shot then slips, stepped through its contact again.
     fn slide(&self, m: &mut ShotState, t: f64, y: &mut [f64], work: &mut WorkCounters) -> bool {
         let Some(sp) = &self.phys.contacts.specimen else {
             return false;
@@ -338,10 +361,44 @@ impl Ctx<'_> {
         if !m.sliding && (-sp.gap(&p, m.body.radius) - delta).abs() > SLIDE_OVERLAP * delta {
             return false;
         }
+        if let Some(mu) = self.specimen_friction() {
+            let (_, ratio) = rolling_friction(m.body.mass, &a, mu);
+            if ratio > 1.0 {
+                let was = m.sliding;
+                m.sliding = false;
+                return was;
+            }
+            if !m.sliding {
+                // Only a sticking contact rolls; its residual slip is stopped.
+                let r_c = Vec3::new(0.0, 0.0, -m.body.radius);
+                let w = omega(y, 1, 0);
+                let slip = friction::tangential_part(&(v + w.cross(&r_c)), &Vec3::z());
+                let m_t = friction::sphere_on_wall_mass(m.body.mass);
+                if friction::stick_damping(m_t, k, delta) * slip.norm() >= mu * load {
+                    return false;
+                }
+                let j = slip * -m_t;
+                let inertia = INERTIA_FACTOR * m.body.mass * m.body.radius * m.body.radius;
+                add_at(y, 3, &(j / m.body.mass));
+                add_at(y, 6, &(r_c.cross(&j) / inertia));
+            }
+        }
         y[2] += -delta - sp.gap(&p, m.body.radius);
         y[5] = 0.0;
+        if !m.sliding {
+            work.slides += 1;
+        }
         m.sliding = true;
         true
+    }
+
+    /// The specimen's friction coefficient, if friction acts there.
+    fn specimen_friction(&self) -> Option<f64> {
+        self.phys
+            .contacts
+            .friction
+            .map(|fr| fr.specimen)
+            .filter(|&mu| mu > 0.0)
     }
 
     /// Whether a contact of Hertz time `tc` that touched at `onset` is an impact still
@@ -383,7 +440,15 @@ impl Ctx<'_> {
                 .forces
                 .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
             if m.sliding {
-                // In the specimen's plane; the contact carries the normal load.
+                // In the specimen's plane; the contact carries the normal load, and with
+                // friction holds the contact point still (rolling).
+                if let Some(mu) = self.specimen_friction() {
+                    work.friction_calls += 1;
+                    let (ft, _) = rolling_friction(m.body.mass, &a, mu);
+                    a += ft / m.body.mass;
+                    let r_c = Vec3::new(0.0, 0.0, -m.body.radius);
+                    add_alpha(dy, n, i, &(r_c.cross(&ft) / inertia));
+                }
                 let d = &mut dy[6 * i..6 * i + 6];
                 d.copy_from_slice(&[v.x, v.y, 0.0, a.x, a.y, 0.0]);
                 continue;
@@ -532,9 +597,22 @@ impl Ctx<'_> {
             if let Some(field) = field {
                 g = g.min(field.margin(&field.coords(&p), m.region));
             }
-            if let Some(sp) = specimen
-                && !m.sliding
-            {
+            if m.sliding {
+                // A rolling shot slips where rolling would take more than `mu F`.
+                if let Some(mu) = self.specimen_friction() {
+                    // (Not counted among the work: the margin only locates the slip.)
+                    let a = self.phys.forces.acceleration(
+                        &m.body,
+                        &p,
+                        &vel(y, i),
+                        m.region,
+                        &m.gust,
+                        &mut WorkCounters::default(),
+                    );
+                    let (_, ratio) = rolling_friction(m.body.mass, &a, mu);
+                    g = g.min(m.body.radius * (1.0 - ratio));
+                }
+            } else if let Some(sp) = specimen {
                 if !m.on_specimen {
                     g = g.min(sp.gap(&p, m.body.radius));
                 } else if pushing.specimen[i] {
@@ -1632,13 +1710,9 @@ fn advance_adaptive(
     for m in members.iter_mut() {
         m.ahead = None;
     }
-    // Only a lone shot slides on the specimen (frictionless, away from the nozzle wall):
+    // Only a lone shot slides on the specimen (away from the nozzle wall):
     // in an island it is pressed by its neighbours as well, and steps with them.
-    let slides = phys.sliding
-        && n == 1
-        && pairs.is_empty()
-        && phys.contacts.friction.is_none()
-        && !members[0].on_wall;
+    let slides = phys.sliding && n == 1 && pairs.is_empty() && !members[0].on_wall;
     if !slides {
         for m in members.iter_mut() {
             m.sliding = false;

@@ -74,10 +74,16 @@ pub fn rel(a: f64, b: f64) -> f64 {
 }
 
 /// A regular stream through the nozzle without shot-shot contact (the independent
-/// scheduler): `rate` shots/s entering at 5 m/s for `feed_ms`, a run of `run_ms`.
-pub fn stream_without_contact(rate: f64, feed_ms: f64, run_ms: f64) -> peenflow::scene::Scene {
+/// scheduler): `rate` shots/s entering at 5 m/s for `feed_ms`, a run of `run_ms`, and
+/// `extra` TOML appended (e.g. a `[friction]` table).
+pub fn stream_without_contact(
+    rate: f64,
+    feed_ms: f64,
+    run_ms: f64,
+    extra: &str,
+) -> peenflow::scene::Scene {
     let text = format!(
-        "duration_ms = {run_ms}\n[effects]\nshot_shot_contact = false\n[shots.feed]\ntype = \"stream\"\nrate_per_s = {rate}\nduration_ms = {feed_ms}\nentry_speed_m_s = 5.0\narrivals = \"regular\"\n"
+        "duration_ms = {run_ms}\n[effects]\nshot_shot_contact = false\n[shots.feed]\ntype = \"stream\"\nrate_per_s = {rate}\nduration_ms = {feed_ms}\nentry_speed_m_s = 5.0\narrivals = \"regular\"\n{extra}"
     );
     peenflow::scene::Scene::from_toml(&text, "stream_without_contact.toml").unwrap()
 }
