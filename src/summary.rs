@@ -451,6 +451,13 @@ impl Summary {
             self.wall_time_s,
             self.threads
         );
+        if self.work.slides > 0 {
+            let _ = writeln!(
+                s,
+                "settled: {} times a lone shot settled onto the specimen and slid or rolled along it (docs/model.md)",
+                self.work.slides
+            );
+        }
         for e in &self.events {
             let _ = writeln!(
                 s,

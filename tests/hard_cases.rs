@@ -660,6 +660,34 @@ fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
     }
 }
 
+#[test]
+fn the_run_says_how_often_shots_settled_on_the_specimen() {
+    // The printed summary names the settled shots (sliding or rolling) when there are
+    // any, with summary.json's count; the paper scene has none.
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = stream_without_contact(4000.0, 10.0, 50.0, "[friction]\nshot_specimen = 0.3\n");
+    std::fs::write(tmp.path().join("s.toml"), &scene.text).unwrap();
+    for (args, settles) in [
+        (vec!["run", "s.toml", "--out", "stream"], true),
+        (vec!["run", "--out", "paper"], false),
+    ] {
+        let o = peenflow(&args, tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout);
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(tmp.path().join(args[args.len() - 1]).join("summary.json"))
+                .unwrap(),
+        )
+        .unwrap();
+        let slides = json["work"]["slides"].as_u64().unwrap();
+        assert_eq!(slides > 0, settles, "{slides} starts");
+        let line = format!(
+            "settled: {slides} times a lone shot settled onto the specimen and slid or rolled along it"
+        );
+        assert_eq!(out.contains(&line), settles, "{out}");
+    }
+}
+
 /// A shot on the specimen under gravity tilted by `theta` along +x (an incline), with
 /// friction `mu` on the specimen, dropped with a speed along the incline and across it;
 /// its final state after `t_end`, with or without rolling (`sliding`).
