@@ -615,6 +615,44 @@ fn a_shot_sliding_on_the_specimen_keeps_its_speed_and_the_static_overlap() {
 }
 
 #[test]
+fn a_sliding_shot_steps_as_long_as_its_motion_allows_and_leaves_the_domain_on_time() {
+    // Sliding is uniform here (frictionless, gravity only): its steps are not capped by
+    // `max_step` (1 ms), so 0.4 s of sliding takes a few steps, not 400; and its exit
+    // from the domain (a cylinder of radius 0.5 m) is located: the stop time is when
+    // the uniform slide reaches it, to 1e-9 s.
+    let b = body(0.8e-3, 7850.0);
+    let g = 9.80665;
+    let law = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.7);
+    let (v0, p0) = (
+        Vec3::new(0.8, 0.6, -0.01),
+        Vec3::new(1e-3, -2e-3, b.radius + 1e-6),
+    );
+    let run = |t_end: f64| {
+        let mut phys = physics(Some(law), None, g);
+        phys.domain.radius = 0.5;
+        let shot = ShotState::new(ShotId(0), p0, v0, b, 0.0);
+        Simulation::from_parts(phys, vec![shot], t_end)
+            .with_scheduler(Scheduler::Events)
+            .run(&|_| {})
+            .shots[0]
+            .clone()
+    };
+    let (a, b2) = (run(0.05), run(0.45));
+    assert!(a.sliding && b2.sliding);
+    println!("{} steps to 0.05 s, {} to 0.45 s", a.steps, b2.steps);
+    assert!(b2.steps - a.steps < 40, "{} steps", b2.steps - a.steps);
+    // |p0 + v t| = 0.5 m in the plane.
+    let (pp, vv) = (Vec3::new(p0.x, p0.y, 0.0), Vec3::new(v0.x, v0.y, 0.0));
+    let (qa, qb, qc) = (vv.dot(&vv), 2.0 * pp.dot(&vv), pp.dot(&pp) - 0.25);
+    let t_exit = (-qb + (qb * qb - 4.0 * qa * qc).sqrt()) / (2.0 * qa);
+    let left = run(1.0);
+    assert_eq!(left.status, ShotStatus::LeftDomain);
+    let t_stop = left.t_stop.unwrap();
+    println!("left at {t_stop:.12} s (uniform slide: {t_exit:.12} s)");
+    assert!((t_stop - t_exit).abs() < 1e-9);
+}
+
+#[test]
 fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
     // Without shot-shot contact, shots that land under the jet bounce, then slide
     // outward on the specimen pressed by the air (docs/performance.md), or with friction

@@ -71,6 +71,9 @@ pub struct Physics {
     pub sliding: bool,
 }
 
+/// Scale (m/s^2) of a sliding shot's lift-off margin (its load per mass, `-a_z`).
+const STANDARD_GRAVITY: f64 = 9.80665;
+
 /// Largest normal speed (m/s) of a settled specimen contact that may turn into sliding.
 const SLIDE_SPEED: f64 = 1e-3;
 
@@ -598,17 +601,21 @@ impl Ctx<'_> {
                 g = g.min(field.margin(&field.coords(&p), m.region));
             }
             if m.sliding {
-                // A rolling shot slips where rolling would take more than `mu F`.
+                // A sliding shot's steps are not capped (`advance_adaptive`): its events are
+                // located. It leaves the domain; its load lifts it off; rolling, it slips
+                // where rolling would take more than `mu F`. (The forces here are not
+                // counted among the work: they only locate events.)
+                let a = self.phys.forces.acceleration(
+                    &m.body,
+                    &p,
+                    &vel(y, i),
+                    m.region,
+                    &m.gust,
+                    &mut WorkCounters::default(),
+                );
+                g = g.min(self.phys.domain.radius - p.x.hypot(p.y));
+                g = g.min(m.body.radius * -a.z / (a.z.abs() + STANDARD_GRAVITY));
                 if let Some(mu) = self.specimen_friction() {
-                    // (Not counted among the work: the margin only locates the slip.)
-                    let a = self.phys.forces.acceleration(
-                        &m.body,
-                        &p,
-                        &vel(y, i),
-                        m.region,
-                        &m.gust,
-                        &mut WorkCounters::default(),
-                    );
                     let (_, ratio) = rolling_friction(m.body.mass, &a, mu);
                     g = g.min(m.body.radius * (1.0 - ratio));
                 }
@@ -1760,7 +1767,14 @@ fn advance_adaptive(
             dopri.invalidate();
         }
         // Step size: controller proposal, window end, next shot entering, contact caps.
-        let h_wanted = h_next.min(phys.max_step);
+        // A shot sliding on the specimen steps as its error control allows: every event
+        // of its motion is located (`Ctx::event_margin`).
+        let max_step = if slides && members[0].sliding {
+            f64::INFINITY
+        } else {
+            phys.max_step
+        };
+        let h_wanted = h_next.min(max_step);
         let mut h = h_wanted;
         let mut lands_at = None;
         let may_pass = alone
