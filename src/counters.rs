@@ -61,6 +61,9 @@ pub struct WorkCounters {
     /// (frictionless) or rolling (with friction), no longer stepped through (counted at
     /// each start: a rolling shot that slips and rolls again counts twice).
     pub slides: u64,
+    /// Shots fed into the run whose entry was held back because they would have appeared
+    /// overlapping a shot already there (counted at each hold).
+    pub entries_held: u64,
 }
 
 impl WorkCounters {
@@ -89,5 +92,6 @@ impl WorkCounters {
         self.lean_contacts += other.lean_contacts;
         self.lean_continuations += other.lean_continuations;
         self.slides += other.slides;
+        self.entries_held += other.entries_held;
     }
 }

@@ -604,8 +604,18 @@ impl<'a> Engine<'a> {
                 Kind::Enter => {
                     if self.shots[a].is_active() && !self.slot[a].present {
                         self.out.work.flight_events += 1;
-                        self.enter(a);
-                        self.predict(a);
+                        if let Some(wait) = self.entry_blocked(a, ev.t) {
+                            // Held back, as in the islands (`island::hold_entries`).
+                            let t = ev.t + wait;
+                            self.shots[a].t_start = t;
+                            self.out.work.entries_held += 1;
+                            if t <= self.end {
+                                self.push(t, Kind::Enter, a, a);
+                            }
+                        } else {
+                            self.enter(a);
+                            self.predict(a);
+                        }
                     }
                 }
                 Kind::Leave => {
@@ -659,6 +669,31 @@ impl<'a> Engine<'a> {
             }
         }
         progress(1.0);
+    }
+
+    /// Whether shot `i`, fed into the run at `t`, would appear overlapping a shot already
+    /// there (free shots at `t`, shots in a cluster where it holds them): then the time
+    /// to wait before trying again, that the two need to cover a contact distance at
+    /// their speeds (see `island::hold_entries`).
+    fn entry_blocked(&self, i: usize, t: f64) -> Option<f64> {
+        self.phys.contacts.pair?;
+        let s = &self.shots[i];
+        let mut wait = None;
+        self.grid.for_each_near(self.grid.cell_of(&s.pos), |j| {
+            if j == i || !self.slot[j].present || wait.is_some() {
+                return;
+            }
+            let (p, v) = if self.slot[j].owner == NONE {
+                self.state_at(j, t)
+            } else {
+                (self.shots[j].pos, self.shots[j].vel)
+            };
+            let reach = s.body.radius + self.shots[j].body.radius;
+            if (p - s.pos).norm() < reach {
+                wait = Some(reach / (v.norm() + s.vel.norm()).max(1e-3));
+            }
+        });
+        wait
     }
 
     fn enter(&mut self, i: usize) {

@@ -1497,6 +1497,39 @@ fn trial(
 }
 
 /// Gap (m) between the shots of pair `pr` in state `y`; negative when they overlap.
+/// Holds back a shot fed into the run at `t` (its entry time) that would appear
+/// overlapping a shot already moving there (one that came back up the bore to the inlet,
+/// or lingers there in a tilted nozzle; the feed only keeps the shots it places apart,
+/// `feed::StreamFeed`): its entry moves on by the time the two need to cover a contact
+/// distance at their speeds, and it is tried again then, as LIGGGHTS' insertion waits
+/// for a free place. Counted in `WorkCounters::entries_held`.
+fn hold_entries(
+    members: &mut [ShotState],
+    pairs: &[IslandPair],
+    t: f64,
+    y: &[f64],
+    work: &mut WorkCounters,
+) {
+    for pr in pairs {
+        for (i, j) in [
+            (pr.a as usize, pr.b as usize),
+            (pr.b as usize, pr.a as usize),
+        ] {
+            let (mi, mj) = (&members[i], &members[j]);
+            // (Shots placed at the start, a bed's, may touch there on purpose.)
+            if !(mi.is_active() && mi.t_start == t && t > 0.0 && moving(mj, t)) {
+                continue;
+            }
+            let reach = mi.body.radius + mj.body.radius;
+            if (pos(y, j) - pos(y, i)).norm() < reach {
+                let speed = vel(y, i).norm() + vel(y, j).norm();
+                members[i].t_start = t + reach / speed.max(1e-3);
+                work.entries_held += 1;
+            }
+        }
+    }
+}
+
 fn pair_gap(members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
     let (i, j) = (pr.a as usize, pr.b as usize);
     (pos(y, j) - pos(y, i)).norm() - members[i].body.radius - members[j].body.radius
@@ -1728,6 +1761,9 @@ fn advance_adaptive(
     // May the last step run past `t1` (see `advance_alone`)? Not again at a time where
     // a step that tried found an event in it.
     let alone = alone && n == 1 && pairs.is_empty();
+    // Fed shots are held back here in windows; the event scheduler holds them at their
+    // entry events, and its clusters start members at their own clocks (`t_start`).
+    let holds = apart_after.is_none();
     let mut no_pass_at = f64::NAN;
     let spin = phys.contacts.friction.is_some();
     let width = if spin { 9 } else { 6 };
@@ -1765,6 +1801,9 @@ fn advance_adaptive(
         }
         if ctx.apply_events(members, pairs, t, y, out) {
             dopri.invalidate();
+        }
+        if holds {
+            hold_entries(members, pairs, t, y, &mut work);
         }
         // Step size: controller proposal, window end, next shot entering, contact caps.
         // A shot sliding on the specimen steps as its error control allows: every event
@@ -1896,6 +1935,24 @@ fn advance_adaptive(
             } else if b != h {
                 trial(&ctx, dopri, members, pairs, at, y, b, y_new, err, &mut work);
             }
+            // The step cut back to the event must be accurate too: a contact its stages
+            // meet that the whole step's did not (a shot that drifted slowly into the bore
+            // wall, met by a step cut at the exit plane) is not. Retried shorter.
+            let e = if y_new.iter().all(|v| v.is_finite()) {
+                ctx.error_norm(members, t, y, err)
+            } else {
+                f64::INFINITY
+            };
+            if e > 1.0 {
+                work.steps_rejected += 1;
+                h_next = b * if e.is_finite() {
+                    step_factor(e, 0.2, 1.0)
+                } else {
+                    0.25
+                };
+                dopri.invalidate();
+                continue;
+            }
             h = b;
         }
         // Accept.
@@ -1933,6 +1990,9 @@ fn advance_adaptive(
         };
         if slides && ctx.slide(&mut members[0], t, y, &mut work) {
             dopri.invalidate();
+        }
+        if holds {
+            hold_entries(members, pairs, t, y, &mut work);
         }
         observer(t, y);
         match ctx.end_of_step(
