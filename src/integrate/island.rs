@@ -1510,14 +1510,17 @@ fn hold_entries(
     y: &[f64],
     work: &mut WorkCounters,
 ) {
+    // (Shots placed at the start, a bed's, may touch there on purpose.)
+    if t <= 0.0 || !members.iter().any(|m| m.is_active() && m.t_start == t) {
+        return;
+    }
     for pr in pairs {
         for (i, j) in [
             (pr.a as usize, pr.b as usize),
             (pr.b as usize, pr.a as usize),
         ] {
             let (mi, mj) = (&members[i], &members[j]);
-            // (Shots placed at the start, a bed's, may touch there on purpose.)
-            if !(mi.is_active() && mi.t_start == t && t > 0.0 && moving(mj, t)) {
+            if !(mi.is_active() && mi.t_start == t && moving(mj, t)) {
                 continue;
             }
             let reach = mi.body.radius + mj.body.radius;
