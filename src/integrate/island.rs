@@ -1766,7 +1766,12 @@ fn advance_adaptive(
     let alone = alone && n == 1 && pairs.is_empty();
     // Fed shots are held back here in windows; the event scheduler holds them at their
     // entry events, and its clusters start members at their own clocks (`t_start`).
-    let holds = apart_after.is_none();
+    // (Only islands with a shot still to enter: a scan of the members at every step
+    // cost the 10,240-shot bed 3 %.)
+    let holds = apart_after.is_none()
+        && members
+            .iter()
+            .any(|m| m.is_active() && m.t_start >= t0 && m.t_start > 0.0);
     let mut no_pass_at = f64::NAN;
     let spin = phys.contacts.friction.is_some();
     let width = if spin { 9 } else { 6 };
