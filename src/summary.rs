@@ -458,6 +458,13 @@ impl Summary {
                 self.work.slides
             );
         }
+        if self.work.entries_held > 0 {
+            let _ = writeln!(
+                s,
+                "held: {} times a fed shot waited at the inlet for a shot there to move away (docs/scene-reference.md, stream feed)",
+                self.work.entries_held
+            );
+        }
         for e in &self.events {
             let _ = writeln!(
                 s,

@@ -77,19 +77,24 @@ fn target_recommendation_meets_its_target() {
         .lines()
         .find(|l| l.starts_with("recommended for a 0.1% target:"))
         .unwrap();
+    // "[integrator] tolerance = T (...)" or "[integrator] method = "verlet", fixed_step_ns = H (...)"
     let value: f64 = line
-        .split(" = ")
-        .nth(1)
+        .split(" (")
+        .next()
+        .unwrap()
+        .rsplit(" = ")
+        .next()
         .unwrap()
         .split_whitespace()
         .next()
         .unwrap()
         .parse()
         .unwrap();
-    let setting = if line.contains("tolerance") {
+    let setting = if line.contains("[integrator] tolerance = ") {
         Setting::Tolerance(value)
     } else {
-        Setting::Verlet(value)
+        assert!(line.contains("fixed_step_ns = "), "{line}");
+        Setting::Verlet(value * 1e-9)
     };
     let run = |st: Setting| {
         let mut s = single();

@@ -775,15 +775,23 @@ fn shots_sliding_under_the_jet_follow_the_stepped_contact() {
 }
 
 #[test]
-fn the_run_says_how_often_shots_settled_on_the_specimen() {
-    // The printed summary names the settled shots (sliding or rolling) when there are
-    // any, with summary.json's count; the paper scene has none.
+fn the_run_says_how_often_shots_settled_on_the_specimen_or_waited_at_the_inlet() {
+    // The printed summary names the settled shots (sliding or rolling) and the fed shots
+    // held back at the inlet when there are any, with summary.json's counts; the paper
+    // scene has neither. A stream with friction settles shots; a stream through a nozzle
+    // at 30 degrees holds entries (shots linger at its inlet).
     let tmp = tempfile::tempdir().unwrap();
     let scene = stream_without_contact(4000.0, 10.0, 50.0, "[friction]\nshot_specimen = 0.3\n");
     std::fs::write(tmp.path().join("s.toml"), &scene.text).unwrap();
-    for (args, settles) in [
-        (vec!["run", "s.toml", "--out", "stream"], true),
-        (vec!["run", "--out", "paper"], false),
+    std::fs::write(
+        tmp.path().join("tilted.toml"),
+        "duration_ms = 20.0\n[nozzle]\nangle_deg = 30.0\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 40000.0\nduration_ms = 20.0\nentry_speed_m_s = 5.0\narrivals = \"regular\"\n",
+    )
+    .unwrap();
+    for (args, settles, holds) in [
+        (vec!["run", "s.toml", "--out", "stream"], true, false),
+        (vec!["run", "tilted.toml", "--out", "tilted"], false, true),
+        (vec!["run", "--out", "paper"], false, false),
     ] {
         let o = peenflow(&args, tmp.path());
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -799,6 +807,14 @@ fn the_run_says_how_often_shots_settled_on_the_specimen() {
             "settled: {slides} times a lone shot settled onto the specimen and slid or rolled along it"
         );
         assert_eq!(out.contains(&line), settles, "{out}");
+        assert_eq!(out.contains("settled:"), settles, "{out}");
+        let held = json["work"]["entries_held"].as_u64().unwrap();
+        assert_eq!(held > 0, holds, "{held} held");
+        let line = format!(
+            "held: {held} times a fed shot waited at the inlet for a shot there to move away"
+        );
+        assert_eq!(out.contains(&line), holds, "{out}");
+        assert_eq!(out.contains("held:"), holds, "{out}");
     }
 }
 

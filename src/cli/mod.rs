@@ -326,15 +326,21 @@ fn accuracy(a: AccuracyArgs) -> Result<()> {
     if let Some(t) = target {
         match study.recommend(t) {
             Some(r) => println!(
-                "recommended for a {}% target: {} = {} ({} s, error {:.2e})",
+                "recommended for a {}% target: [integrator] {} ({} s, error {:.2e})",
                 t * 100.0,
                 if r.method == "verlet" {
-                    "velocity Verlet step (s)"
+                    format!(
+                        "method = \"verlet\", fixed_step_ns = {}",
+                        (r.setting * 1e15).round() / 1e6
+                    )
                 } else {
-                    "[integrator] tolerance"
+                    format!("tolerance = {:e}", r.setting)
                 },
-                r.setting,
-                r.wall_time_s,
+                if r.wall_time_s >= 0.01 {
+                    format!("{:.3}", r.wall_time_s)
+                } else {
+                    format!("{:.1e}", r.wall_time_s)
+                },
                 r.error
             ),
             None => bail!(

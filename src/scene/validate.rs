@@ -50,7 +50,7 @@ impl Checker<'_> {
         Err(SceneError::OutOfRange {
             path: self.path.to_string(),
             key: key.to_string(),
-            value: format!("{v}"),
+            value: written(v),
             allowed: format!("{lb}{}, {}{hb}{unit}", bound(l), bound(h)),
         })
     }
@@ -95,6 +95,17 @@ fn bound(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x}")
+    }
+}
+
+/// A value as the scene wrote it; in exponent form where that runs long (`1e300`, not
+/// 301 digits).
+fn written(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() > 16 {
+        format!("{x:e}")
+    } else {
+        plain
     }
 }
 
