@@ -1116,3 +1116,82 @@ fn a_shot_kicked_beyond_its_reach_is_caught_and_the_window_redone() {
         );
     }
 }
+
+#[test]
+fn a_shot_sliding_out_of_the_jet_lifts_off_where_its_load_vanishes() {
+    // A shot sliding outward on the specimen (frictionless) under the jet, which presses
+    // it on. Its lift-off must be located where its load reaches zero, and it flies free
+    // from there. Two cases:
+    // * no gravity: the load is the air's press alone and vanishes at the jet's edge, a
+    //   region border;
+    // * gravity of 100 m/s^2 pulling away from the specimen (a stand-in for any load that
+    //   fades inside a region): the load vanishes where the press falls to 100 m/s^2,
+    //   which only the load's event margin locates (without it the run is 6e-6 m off).
+    // The reference: the same slide run to just past its lift-off (bisected to 1e-10 s),
+    // then flown on as a free shot from there. The stepped contact (no sliding) is the
+    // independent check; its overlap relaxes by itself as the load goes.
+    let b = body(0.8e-3, 7850.0);
+    let t_end = 0.02;
+    for up in [None, Some(100.0)] {
+        let scene = Scene::from_toml("[effects]\ngravity = false\n", "jet.toml").unwrap();
+        let mut phys = peenflow::sim::build_physics(&scene, &scene.effects());
+        phys.forces.gravity = up.map(|g| GravityModel {
+            acceleration: Vec3::new(0.0, 0.0, g),
+        });
+        let fly = |shot: ShotState, sliding: bool, t_end: f64| {
+            let mut phys = phys.clone();
+            phys.sliding = sliding;
+            let out = Simulation::from_parts(phys, vec![shot], t_end)
+                .with_scheduler(Scheduler::Events)
+                .run(&|_| {});
+            assert!(out.events.is_empty(), "{:?}", out.events);
+            (out.shots[0].clone(), out.work.slides)
+        };
+        let start = ShotState::new(
+            ShotId(0),
+            Vec3::new(1e-3, 0.0, b.radius + 1e-7),
+            Vec3::new(5.0, 0.0, -0.01),
+            b,
+            0.0,
+        );
+        let run = |sliding: bool, t_end: f64| fly(start.clone(), sliding, t_end);
+        let ((slid, starts), (stepped, _)) = (run(true, t_end), run(false, t_end));
+        // It settled and slid once, then lifted off and leaves the plane.
+        assert_eq!(starts, 1, "{up:?}");
+        assert!(!slid.sliding && slid.status == ShotStatus::Active);
+        assert!(slid.vel.z > 0.0 && slid.pos.z > b.radius, "{:?}", slid.pos);
+        let (mut lo, mut hi) = (1e-3, t_end);
+        assert!(run(true, lo).0.sliding);
+        while hi - lo > 1e-10 {
+            let mid = 0.5 * (lo + hi);
+            if run(true, mid).0.sliding {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let lifted = run(true, hi).0;
+        let reference = fly(
+            ShotState::new(ShotId(0), lifted.pos, lifted.vel, b, hi),
+            true,
+            t_end,
+        )
+        .0;
+        let apart = |s: &ShotState| {
+            (
+                (s.pos - reference.pos).norm(),
+                (s.vel - reference.vel).norm(),
+            )
+        };
+        let ((dp, dv), (dps, dvs)) = (apart(&slid), apart(&stepped));
+        println!(
+            "gravity {up:?}: lift-off at {hi:.9} s, x = {:.4} mm; sliding run {dp:.1e} m, {dv:.1e} m/s from the reference, stepped {dps:.1e} m, {dvs:.1e} m/s; {} steps against {}",
+            lifted.pos.x * 1e3,
+            slid.steps,
+            stepped.steps
+        );
+        assert!(dp < 5e-8 && dv < 3e-6, "{up:?}");
+        assert!(dps < 2e-6 && dvs < 1e-4, "{up:?}");
+        assert!(5 * slid.steps < stepped.steps);
+    }
+}
