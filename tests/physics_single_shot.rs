@@ -4,7 +4,8 @@
 //! the contact. Tolerance: the 0.1 % on the impact speed; the reference itself
 //! must agree with its half-step rerun to 1e-7.
 //! Also: free flight is not paid at contact resolution (at most 2,000 steps from the
-//! inlet to first contact, at least 30 steps in the specimen contact).
+//! inlet to first contact, at least 15 steps in the specimen contact), and the README's
+//! worked example quotes this run's counts.
 
 mod common;
 use common::*;
@@ -175,6 +176,29 @@ fn free_flight_is_cheap_and_the_contact_is_resolved() {
     // The error controller sets the steps of a contact (onset and end of force located):
     // about 25 at the default tolerance; a handful would mean the contact was skipped.
     assert!(contact >= 15, "only {contact} steps resolve the contact");
+    // The README's worked example is this run: its console line and its sentence on the
+    // steps must quote what the run prints and counts.
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let stdout = peenflow(
+        &["run", scene.to_str().unwrap(), "--out", "printed"],
+        dir.path(),
+    )
+    .stdout;
+    let printed = String::from_utf8_lossy(&stdout);
+    let work = printed.lines().find(|l| l.starts_with("work: ")).unwrap();
+    let upto = work.find("; wall time").unwrap();
+    assert!(
+        readme.contains(&work[..upto]),
+        "README's worked example does not quote `{}`",
+        &work[..upto]
+    );
+    let sentence = format!(
+        "It took {flight} steps from the inlet to the specimen\nand {contact} steps through"
+    );
+    assert!(
+        readme.contains(&sentence),
+        "README's worked example does not say `{sentence}`"
+    );
 }
 
 #[test]
