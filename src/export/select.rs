@@ -3,6 +3,7 @@
 //! order; the result keeps time order.
 
 use crate::record::Impact;
+use crate::scene::validate::num;
 use rand::SeedableRng;
 use rand::seq::index::sample;
 use rand_chacha::ChaCha8Rng;
@@ -64,14 +65,14 @@ impl Selection {
         if let Some([x0, y0, x1, y1]) = self.window {
             parts.push(format!(
                 "window x {}..{} mm, y {}..{} mm",
-                x0 * 1e3,
-                x1 * 1e3,
-                y0 * 1e3,
-                y1 * 1e3
+                num(x0 * 1e3),
+                num(x1 * 1e3),
+                num(y0 * 1e3),
+                num(y1 * 1e3)
             ));
         }
         if let Some([t0, t1]) = self.time_window {
-            parts.push(format!("time {}..{} ms", t0 * 1e3, t1 * 1e3));
+            parts.push(format!("time {}..{} ms", num(t0 * 1e3), num(t1 * 1e3)));
         }
         if self.first_hits_only {
             parts.push("first hits only".into());

@@ -799,8 +799,8 @@ impl SceneFile {
                             &format!("{k}.diameter_mm"),
                             format!(
                                 "a {} mm shot does not fit the {} mm bore",
-                                d * 1e3,
-                                nozzle.bore * 1e3
+                                num(d * 1e3),
+                                num(nozzle.bore * 1e3)
                             ),
                         ));
                     }
@@ -817,7 +817,7 @@ impl SceneFile {
                     if pos.z < 0.5 * d {
                         return Err(c.invalid(
                             &format!("{k}.position_mm"),
-                            format!("the shot's centre is {} mm above the specimen, less than its radius {} mm: it would start inside the specimen", pos.z * 1e3, 0.5 * d * 1e3),
+                            format!("the shot's centre is {} mm above the specimen, less than its radius {} mm: it would start inside the specimen", num(pos.z * 1e3), num(0.5 * d * 1e3)),
                         ));
                     }
                     list.push(ListShot {
