@@ -47,6 +47,38 @@ fn export_bad_input_gets_one_line_and_no_output() {
         &["export", "corrupt.h5", "-f", "vtk", "-o", "bad"],
         "corrupt.h5: cannot read impacts: not a readable HDF5 file",
     );
+    for (flag, value, expected) in [
+        (
+            "--window",
+            "1,2,3",
+            "--window 1,2,3: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0",
+        ),
+        (
+            "--window",
+            "5,5,1,1",
+            "--window 5,5,1,1: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0",
+        ),
+        (
+            "--time-window",
+            "2,1",
+            "--time-window 2,1: give t0,t1 in ms with t1 > t0",
+        ),
+    ] {
+        fails_cleanly(
+            t,
+            &[
+                "export",
+                "run/impacts.h5",
+                "-f",
+                "vtk",
+                flag,
+                value,
+                "-o",
+                "bad",
+            ],
+            expected,
+        );
+    }
     fails_cleanly(
         t,
         &["export", "run/impacts.h5", "-f", "nastran", "-o", "bad"],

@@ -221,14 +221,17 @@ fn export(a: ExportArgs) -> Result<()> {
         bail!("--element-size-mm {h}: allowed > 0");
     }
     if let Some(w) = &a.window
-        && (w.len() != 4 || w.iter().any(|v| !v.is_finite()))
+        && (w.len() != 4 || w.iter().any(|v| !v.is_finite()) || w[2] <= w[0] || w[3] <= w[1])
     {
-        bail!("--window {w:?}: give four numbers x0,y0,x1,y1 in mm");
+        bail!(
+            "--window {}: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0",
+            listed(w)
+        );
     }
     if let Some(w) = &a.time_window
-        && (w.len() != 2 || w.iter().any(|v| !v.is_finite()))
+        && (w.len() != 2 || w.iter().any(|v| !v.is_finite()) || w[1] <= w[0])
     {
-        bail!("--time-window {w:?}: give two numbers t0,t1 in ms");
+        bail!("--time-window {}: give t0,t1 in ms with t1 > t0", listed(w));
     }
     if a.elastic && formats.contains(&export::Format::Deck(export::deck::DeckFormat::Calculix)) {
         eprintln!(
@@ -485,6 +488,11 @@ fn merge(a: MergeArgs) -> Result<()> {
     Ok(())
 }
 
+/// Numbers as a user types them on the command line: `1,2,3`.
+fn listed(w: &[f64]) -> String {
+    w.iter().map(f64::to_string).collect::<Vec<_>>().join(",")
+}
+
 fn coverage(a: CoverageArgs) -> Result<()> {
     let window = match &a.window {
         Some(w)
@@ -492,7 +500,10 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         {
             Some([w[0] * 1e-3, w[1] * 1e-3, w[2] * 1e-3, w[3] * 1e-3])
         }
-        Some(w) => bail!("--window {w:?}: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0"),
+        Some(w) => bail!(
+            "--window {}: give x0,y0,x1,y1 in mm with x1 > x0 and y1 > y0",
+            listed(w)
+        ),
         None => None,
     };
     if let Some(c) = a.cell_um
