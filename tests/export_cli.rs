@@ -63,6 +63,12 @@ fn export_bad_input_gets_one_line_and_no_output() {
             "2,1",
             "--time-window 2,1: give t0,t1 in ms with t1 > t0",
         ),
+        // A negative number is a value to check, not an unknown flag.
+        (
+            "--element-size-mm",
+            "-1",
+            "--element-size-mm -1: allowed > 0",
+        ),
     ] {
         fails_cleanly(
             t,

@@ -51,7 +51,7 @@ pub struct CoverageArgs {
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub window: Option<Vec<f64>>,
     /// Cell size, um (default: a fifth of the median dent radius).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub cell_um: Option<f64>,
     /// Target material (default: the scene's specimen). With a yield strength the dents
     /// are plastic; without, the Hertz contact footprint.
@@ -138,7 +138,7 @@ pub struct RunArgs {
     pub export: Vec<String>,
     /// Record shot positions every INTERVAL ms and write a ParaView series
     /// (snapshots/shots.pvd).
-    #[arg(long, value_name = "INTERVAL_MS")]
+    #[arg(long, value_name = "INTERVAL_MS", allow_negative_numbers = true)]
     pub snapshots: Option<f64>,
     /// Target material of exported decks (default: the scene's specimen).
     #[arg(long)]
@@ -184,7 +184,7 @@ pub struct ExportArgs {
     #[arg(long)]
     pub target_material: Option<String>,
     /// Element size under the impacts, mm (default: shot radius / 4).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub element_size_mm: Option<f64>,
     /// Shot mesh resolution: cells along each edge of the mapped cube (default 6; measured
     /// with ccx: 4 lets the finer target surface slip between the shot's nodes).
