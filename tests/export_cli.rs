@@ -1,7 +1,7 @@
 //! `peenflow export` and `peenflow run --export/--snapshots` from the command line:
 //! VTK outputs read back, snapshot positions against direct runs, and bad input (missing
-//! or corrupt impacts.h5, a template with an undefined variable, an empty selection, an
-//! unknown format) getting one clear line, a non-zero exit and no partial output.
+//! or corrupt impacts.h5, a template with an undefined variable, an empty selection, a
+//! run without impacts, an unknown format) getting one clear line, a non-zero exit and no partial output.
 
 mod common;
 use common::*;
@@ -85,6 +85,16 @@ fn export_bad_input_gets_one_line_and_no_output() {
             expected,
         );
     }
+    // A run that recorded no impact (1 ms: no shot reaches the specimen) has nothing to
+    // export.
+    fs::write(t.join("short.toml"), "duration_ms = 1.0\n").unwrap();
+    let o = peenflow(&["run", "short.toml", "--out", "short", "-q"], t);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    fails_cleanly(
+        t,
+        &["export", "short/impacts.h5", "-f", "vtk", "-o", "bad"],
+        "the file holds no impacts: the run recorded none (no shot reached the specimen in its duration); nothing to export",
+    );
     fails_cleanly(
         t,
         &["export", "run/impacts.h5", "-f", "nastran", "-o", "bad"],

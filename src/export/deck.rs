@@ -139,6 +139,11 @@ pub enum DeckError {
         /// The selection.
         selection: String,
     },
+    /// The file holds no impacts at all.
+    #[error(
+        "the file holds no impacts: the run recorded none (no shot reached the specimen in its duration); nothing to export"
+    )]
+    NoImpacts,
     /// The target material cannot be meshed as elastic-plastic.
     #[error(
         "target material \"{0}\" has no yield strength: pass --target-material A5052 (or another library material with one) or add yield_strength_mpa to [materials.{0}]"

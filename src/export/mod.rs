@@ -155,6 +155,9 @@ pub fn export(
             decks.len()
         )));
     }
+    if impacts.is_empty() {
+        return Err(deck::DeckError::NoImpacts.into());
+    }
     let selected = req.selection.apply(impacts);
     if selected.is_empty() {
         return Err(deck::DeckError::EmptySelection {
