@@ -156,6 +156,26 @@ fn export_bad_input_gets_one_line_and_no_output() {
         &["export", "run/impacts.h5", "-f", "calculix", "-o", "bad"],
         "target material \"table2-steel\" has no yield strength: pass --target-material A5052",
     );
+    // `run --export` refuses a deck it cannot build before running, not after: no output
+    // directory is created.
+    fails_cleanly(
+        t,
+        &["run", "--export", "abaqus", "-o", "bad"],
+        "target material \"table2-steel\" has no yield strength: pass --target-material A5052",
+    );
+    fails_cleanly(
+        t,
+        &[
+            "run",
+            "--export",
+            "calculix",
+            "--target-material",
+            "cheese",
+            "-o",
+            "bad",
+        ],
+        "--target-material cheese: unknown material; known: table2-steel",
+    );
     // An existing output file is not overwritten without --force.
     let o = peenflow(&["export", "run/impacts.h5", "-f", "vtk", "-o", "good"], t);
     assert!(o.status.success());

@@ -88,6 +88,9 @@ fn run_scene(a: RunArgs) -> Result<()> {
     let effects = scene.effects();
     let mut sim = Simulation::new(&scene, &effects)?;
     let formats = parse_formats(&a.export)?;
+    if formats.iter().any(|f| matches!(f, export::Format::Deck(_))) {
+        export::deck_target(&scene, a.target_material.as_deref())?;
+    }
     if let Some(ms) = a.snapshots {
         if !(ms > 0.0 && ms.is_finite()) {
             bail!("--snapshots {ms}: allowed an interval > 0 ms");

@@ -130,6 +130,21 @@ fn find_material(name: &str, scene: &Scene) -> Result<Material, ExportError> {
     })
 }
 
+/// The target material decks of `scene` are built on (`--target-material`, or the
+/// scene's specimen), checked for what a deck needs (a yield strength). `peenflow run
+/// --export` calls it before running, so a deck that cannot be built is refused before
+/// a long run rather than after it.
+pub fn deck_target(scene: &Scene, name: Option<&str>) -> Result<Material, ExportError> {
+    let m = match name {
+        Some(name) => find_material(name, scene)?,
+        None => scene.specimen_material.clone(),
+    };
+    if m.yield_strength.is_none() {
+        return Err(deck::DeckError::NoYield(m.name.clone()).into());
+    }
+    Ok(m)
+}
+
 /// Exports `impacts` (of `scene`, read from `source`) as requested. Returns the files
 /// written. Nothing is written when anything fails.
 pub fn export(
@@ -186,10 +201,7 @@ pub fn export(
         }
     }
     if !decks.is_empty() {
-        let target_material = match &req.target_material {
-            Some(name) => find_material(name, scene)?,
-            None => scene.specimen_material.clone(),
-        };
+        let target_material = deck_target(scene, req.target_material.as_deref())?;
         let settings = DeckSettings {
             units: req.units,
             rigid_shots: req.rigid_shots,
