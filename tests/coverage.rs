@@ -237,6 +237,36 @@ fn coverage_command_end_to_end() {
         let e = String::from_utf8_lossy(&o.stderr);
         assert!(e.contains(needle) && e.trim().lines().count() == 1, "{e}");
     }
+    // A cell too fine for the window is enlarged to 2000 cells along it, and the run
+    // says so.
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--cell-um",
+            "0.001",
+            "--no-h5",
+            "--out",
+            "fine",
+        ],
+        t.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("note: --cell-um 0.001 would need more than 2000 cells along the window; cells enlarged to"),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(t.path().join("fine/coverage.json")).unwrap(),
+    )
+    .unwrap();
+    let cells = &json["cells"];
+    assert_eq!(
+        cells[0].as_u64().unwrap().max(cells[1].as_u64().unwrap()),
+        2000,
+        "{cells}"
+    );
 }
 
 #[test]

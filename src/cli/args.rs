@@ -50,7 +50,8 @@ pub struct CoverageArgs {
     /// impact point, half side the median distance of the impacts from it).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub window: Option<Vec<f64>>,
-    /// Cell size, um (default: a fifth of the median dent radius).
+    /// Cell size, um (default: a fifth of the median dent radius; enlarged, with a note,
+    /// where the window would need more than 2000 cells along a side).
     #[arg(long, allow_negative_numbers = true)]
     pub cell_um: Option<f64>,
     /// Target material (default: the scene's specimen). With a yield strength the dents

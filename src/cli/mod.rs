@@ -548,6 +548,15 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         );
     }
     println!("target {}: {}", r.target, r.model.describe());
+    if let Some(asked) = a.cell_um
+        && c.cell > asked * 1e-6 * (1.0 + 1e-9)
+    {
+        println!(
+            "note: --cell-um {asked} would need more than {} cells along the window; cells enlarged to {:.2} um",
+            crate::coverage::MAX_CELLS,
+            c.cell * 1e6
+        );
+    }
     println!(
         "{} dents, median diameter {:.3} mm; window x {:.2}..{:.2} mm, y {:.2}..{:.2} mm, {} x {} cells of {:.1} um",
         r.dents,
