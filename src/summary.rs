@@ -385,8 +385,14 @@ impl Summary {
         if self.left_domain + self.failed > 0 {
             let _ = writeln!(
                 s,
-                "stopped: {} left the domain, {} failed (see events)",
-                self.left_domain, self.failed
+                "stopped: {} left the domain, {} failed{}",
+                self.left_domain,
+                self.failed,
+                if self.failed > 0 {
+                    " (see the events below)"
+                } else {
+                    ""
+                }
             );
         }
         if let Some(v) = &self.normal_speed_m_s {
