@@ -167,7 +167,14 @@ impl Scene {
             (
                 count > 1.0,
                 if count > 1.0 {
-                    format!("auto: {} shots can meet", count.round())
+                    if matches!(self.feed, Feed::Stream { .. }) {
+                        format!(
+                            "auto: about {} shots fed (rate x duration) can meet",
+                            count.round()
+                        )
+                    } else {
+                        format!("auto: {} shots can meet", count.round())
+                    }
                 } else {
                     "auto: only one shot".into()
                 },
