@@ -1,4 +1,4 @@
-//! Output files of a run: impacts.csv, shots.csv and summary.json, each written under a
+//! Output files of a run: impacts.csv, impacts.h5, shots.csv and summary.json, each written under a
 //! temporary name and renamed when complete, so a killed run never leaves a truncated file.
 
 use crate::record::Impact;

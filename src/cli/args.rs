@@ -17,7 +17,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Run a scene (default: the paper's Table 2 scene) and write impacts.csv,
-    /// shots.csv and summary.json.
+    /// impacts.h5, shots.csv and summary.json.
     Run(RunArgs),
     /// Write a commented scene file (the paper's Table 2 scene) to start from.
     Init(InitArgs),
