@@ -98,15 +98,22 @@ impl Pooled {
     }
 }
 
-/// Runs `scene` for `seeds` seeds from 1 and pools first hits.
+/// Runs `scene` for `seeds` seeds from 1 and pools first hits. The seeds run in
+/// parallel and are pooled in seed order (the same result on any thread count).
 pub fn pooled(scene: &Scene, seeds: u64) -> Pooled {
+    use rayon::prelude::*;
+    let runs: Vec<RunOutput> = (1..=seeds)
+        .into_par_iter()
+        .map(|seed| {
+            let mut s = scene.clone();
+            s.seed = seed;
+            Simulation::new(&s, &s.effects())
+                .expect("BUG: validated scene")
+                .run(&|_| {})
+        })
+        .collect();
     let mut p = Pooled::default();
-    for seed in 1..=seeds {
-        let mut s = scene.clone();
-        s.seed = seed;
-        let out: RunOutput = Simulation::new(&s, &s.effects())
-            .expect("BUG: validated scene")
-            .run(&|_| {});
+    for out in runs {
         p.shots += out.shots.len();
         p.collisions += out.shots.iter().map(|s| s.collisions as u64).sum::<u64>() / 2;
         let mut mine = Vec::new();
