@@ -8,6 +8,7 @@
 
 use crate::Vec3;
 use crate::forces::ShotBody;
+use crate::scene::validate::num;
 use crate::scene::{Feed, Scene, SceneError, SizeDistribution};
 use crate::state::{ShotId, ShotState};
 use rand::{Rng, SeedableRng};
@@ -254,7 +255,7 @@ impl StreamFeed {
                 key: "shots.feed".into(),
                 message: format!(
                     "the stream of {rate:.4e} shots/s cannot enter the {} mm bore without overlap; lower the rate",
-                    crate::scene::validate::num(self.bore * 1e3)
+                    num(self.bore * 1e3)
                 ),
             });
         };
@@ -343,9 +344,9 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                         message: format!(
                             "cannot place shot {} of {count} without overlap: the placement volume (radial offsets {}-{} mm, axial spread {} mm) is too full; increase axial_spread_mm, widen radial_offset_mm or lower count",
                             i + 1,
-                            crate::scene::validate::num(radial_min * 1e3),
-                            crate::scene::validate::num(radial_max * 1e3),
-                            crate::scene::validate::num(axial_spread * 1e3)
+                            num(radial_min * 1e3),
+                            num(radial_max * 1e3),
+                            num(axial_spread * 1e3)
                         ),
                     });
                 };
@@ -450,7 +451,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                             message: format!(
                                 "overlaps shot {} at the start: move it at least {} mm away",
                                 b.id.0,
-                                crate::scene::validate::num((a.body.radius + b.body.radius) * 1e3)
+                                num((a.body.radius + b.body.radius) * 1e3)
                             ),
                         });
                     }
