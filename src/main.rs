@@ -11,7 +11,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn main() {
     let cli = peenflow::cli::Cli::parse();
     if let Err(e) = peenflow::cli::run(cli) {
-        eprintln!("peenflow: error: {e:#}");
+        eprintln!("peenflow: error: {}", peenflow::cli::error_message(&e));
         std::process::exit(2);
     }
 }

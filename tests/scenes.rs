@@ -106,6 +106,12 @@ fn missing_scene_file_and_existing_output_dir_are_refused() {
         stderr.contains("no-such-scene.toml: cannot read the scene file"),
         "{stderr}"
     );
+    // The cause once, not once per link of the error chain.
+    assert_eq!(
+        stderr.matches("No such file or directory").count(),
+        1,
+        "{stderr}"
+    );
 
     let out = tmp.path().join("out");
     fs::create_dir(&out).unwrap();

@@ -491,6 +491,21 @@ fn merge(a: MergeArgs) -> Result<()> {
     Ok(())
 }
 
+/// An error as one line: the message, then each cause it does not already quote (the
+/// errors of this crate name their cause in their own message; `{:#}` would repeat it:
+/// "No such file or directory (os error 2): No such file or directory (os error 2)").
+pub fn error_message(e: &anyhow::Error) -> String {
+    let mut msg = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !msg.contains(&c) {
+            msg.push_str(": ");
+            msg.push_str(&c);
+        }
+    }
+    msg
+}
+
 /// Numbers as a user types them on the command line: `1,2,3`.
 fn listed(w: &[f64]) -> String {
     w.iter().map(f64::to_string).collect::<Vec<_>>().join(",")
