@@ -116,6 +116,22 @@ impl Grid {
         }
         true
     }
+
+    /// Draws up to `PLACEMENT_ATTEMPTS` centres with `draw` and takes the first where a
+    /// sphere of radius `r` overlaps none of `shots`: it is entered in the grid as shot
+    /// `shots.len()` (the caller pushes it next). `None`: no draw was clear.
+    fn place(
+        &mut self,
+        shots: &[ShotState],
+        r: f64,
+        mut draw: impl FnMut() -> Vec3,
+    ) -> Option<Vec3> {
+        let p = (0..PLACEMENT_ATTEMPTS)
+            .map(|_| draw())
+            .find(|p| self.clear(shots, p, r))?;
+        self.insert(&p, shots.len());
+        Some(p)
+    }
 }
 
 /// Mass (kg) of a sphere of diameter `d` (m) and density `rho` (kg/m^3).
@@ -319,9 +335,7 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
             let mut grid = Grid::new(2.0 * scene.sizes.max_diameter());
             for i in 0..*count {
                 let d = draw_diameter(&scene.sizes, &mut rng);
-                let r = 0.5 * d;
-                let mut placed = None;
-                for _ in 0..PLACEMENT_ATTEMPTS {
+                let placed = grid.place(&shots, 0.5 * d, || {
                     let rho_r = rng
                         .random_range(radial_min * radial_min..=radial_max * radial_max)
                         .sqrt();
@@ -331,12 +345,8 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                     } else {
                         0.0
                     };
-                    let p = in_bore(depth, rho_r, phi);
-                    if grid.clear(&shots, &p, r) {
-                        placed = Some(p);
-                        break;
-                    }
-                }
+                    in_bore(depth, rho_r, phi)
+                });
                 let Some(p) = placed else {
                     return Err(SceneError::Invalid {
                         path: scene.path.clone(),
@@ -350,7 +360,6 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                         ),
                     });
                 };
-                grid.insert(&p, shots.len());
                 shots.push(ShotState::new(ShotId(i), p, Vec3::zeros(), body(d), 0.0));
             }
         }
@@ -370,18 +379,13 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
             for i in 0..*count {
                 let d = draw_diameter(&scene.sizes, &mut rng);
                 let r = 0.5 * d;
-                let mut placed = None;
-                for _ in 0..PLACEMENT_ATTEMPTS {
-                    let p = Vec3::new(
+                let placed = grid.place(&shots, r, || {
+                    Vec3::new(
                         rng.random_range(min.x + r..=max.x - r),
                         rng.random_range(min.y + r..=max.y - r),
                         rng.random_range(min.z + r..=max.z - r),
-                    );
-                    if grid.clear(&shots, &p, r) {
-                        placed = Some(p);
-                        break;
-                    }
-                }
+                    )
+                });
                 let Some(p) = placed else {
                     return Err(SceneError::Invalid {
                         path: scene.path.clone(),
@@ -392,7 +396,6 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
                         ),
                     });
                 };
-                grid.insert(&p, shots.len());
                 shots.push(ShotState::new(ShotId(i), p, *velocity, body(d), 0.0));
             }
         }
