@@ -1206,3 +1206,36 @@ fn a_shot_sliding_out_of_the_jet_lifts_off_where_its_load_vanishes() {
         assert!(5 * slid.steps < stepped.steps);
     }
 }
+
+#[test]
+fn a_shot_fed_during_an_island_step_enters_where_and_as_it_was_fed() {
+    // Shot 1 is fed at t = 1 ms next to shot 0, which falls in the same island from
+    // t = 0. The island's steps are cut at the entry time; the step that ends there must
+    // not move shot 1 yet. Until session 23 its last stages (evaluated at the entry time)
+    // counted shot 1 as moving, so it entered up to a step's fraction of its own motion
+    // early (0.1 mm here), and a shot fed overlapping another a femtosecond after a step
+    // end collapsed the island's steps (stopping every member) instead of being held.
+    // Reference: free fall from the fed state (no contact: the two never come near).
+    let b = body(0.8e-3, 7850.0);
+    let pair = HertzLaw::new(E_STEEL, NU_STEEL, E_STEEL, NU_STEEL, 0.9);
+    let g = 9.80665;
+    let phys = physics(None, Some(pair), g);
+    let (p1, v1, t1) = (
+        Vec3::new(1.2e-3, 0.0, 0.05),
+        Vec3::new(0.0, 0.0, -5.0),
+        1e-3,
+    );
+    let shots = vec![
+        ShotState::new(ShotId(0), Vec3::new(0.0, 0.0, 0.05), Vec3::zeros(), b, 0.0),
+        ShotState::new(ShotId(1), p1, v1, b, t1),
+    ];
+    let t_end = 3e-3;
+    let (end, _, out) = island(shots, &phys, t_end);
+    assert!(out.events.is_empty(), "{:?}", out.events);
+    let tau = t_end - t1;
+    let want = p1 + v1 * tau - Vec3::new(0.0, 0.0, 0.5 * g * tau * tau);
+    let miss = (end[1].pos - want).norm();
+    println!("shot 1 ends {miss:.3e} m from free fall since its entry");
+    assert!(miss < 1e-9, "{:?} against {:?}", end[1].pos, want);
+    assert!((end[1].vel.z - (v1.z - g * tau)).abs() < 1e-9);
+}

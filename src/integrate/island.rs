@@ -1483,8 +1483,11 @@ fn trial(
     err: &mut [f64],
     work: &mut WorkCounters,
 ) {
+    // Who moves is decided at the step's start for all its stages: steps are cut at entry
+    // times, and a shot entering at the step's end must not act on its last stages (it
+    // may still be held back there, `hold_entries`).
     dopri.step(
-        &mut |tt, yy: &[f64], dd: &mut [f64]| ctx.rhs(members, pairs, tt, yy, dd, work),
+        &mut |_, yy: &[f64], dd: &mut [f64]| ctx.rhs(members, pairs, t, yy, dd, work),
         t,
         y,
         h,
