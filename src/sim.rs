@@ -111,10 +111,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         }),
         wall: effects.nozzle_wall_contact.then(|| WallContact {
             law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),
-            exit: scene.nozzle.exit(),
-            axis: scene.nozzle.axis(),
-            bore_radius: 0.5 * scene.nozzle.bore,
-            length: scene.nozzle.length,
+            tube: scene.nozzle.tube(),
         }),
         pair: effects.shot_shot_contact.then(|| PairContact {
             law: law(shot, scene.restitution.shot_shot),

@@ -1,7 +1,7 @@
 //! Contact stage: which contacts a scene enabled, their geometry and their laws.
 //!
 //! * [`SpecimenContact`]: shot on the flat specimen (plane `z = 0`, normal `+z`);
-//! * [`WallContact`]: shot inside the cylindrical nozzle bore;
+//! * [`WallContact`]: shot against the nozzle tube (bore, lips, outer surface);
 //! * [`PairContact`]: shot on shot, candidates from the [`broad`] cell list;
 //! * [`Friction`]: Coulomb friction at the contact points of all three (spins shots).
 //!
@@ -20,7 +20,7 @@ pub use friction::Friction;
 pub use hertz::HertzLaw;
 pub use pair::PairContact;
 pub use specimen::SpecimenContact;
-pub use wall::{WallContact, WallGeom};
+pub use wall::{Tube, WallContact, WallGeom};
 
 /// The enabled contacts. A disabled contact is `None`: no test, no neighbour search.
 #[derive(Debug, Clone, Copy, PartialEq)]

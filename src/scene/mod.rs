@@ -101,6 +101,16 @@ impl NozzleGeometry {
         }
         -self.axis() * (self.standoff + self.length)
     }
+
+    /// The tube the shots meet (nozzle wall contact).
+    pub fn tube(&self) -> crate::contact::Tube {
+        crate::contact::Tube {
+            exit: self.exit(),
+            axis: self.axis(),
+            bore_radius: 0.5 * self.bore,
+            length: self.length,
+        }
+    }
 }
 
 /// Which density fills the bore and the potential core (model-notes defect 1).

@@ -820,6 +820,20 @@ impl SceneFile {
                             format!("the shot's centre is {} mm above the specimen, less than its radius {} mm: it would start inside the specimen", num(pos.z * 1e3), num(0.5 * d * 1e3)),
                         ));
                     }
+                    if let Some(g) = nozzle.tube().geometry(&pos, 0.5 * d)
+                        && g.gap < 0.0
+                    {
+                        return Err(c.invalid(
+                            &format!("{k}.position_mm"),
+                            format!(
+                                "the shot would start overlapping the nozzle tube by {} mm (its centre is {} mm from the nozzle axis, the bore radius is {} mm): place it inside the bore at most {} mm from the axis, or clear of the tube",
+                                num(-g.gap * 1e3),
+                                num(nozzle.tube().radial_distance(&pos) * 1e3),
+                                num(0.5 * nozzle.bore * 1e3),
+                                num((0.5 * nozzle.bore - 0.5 * d) * 1e3)
+                            ),
+                        ));
+                    }
                     list.push(ListShot {
                         position: pos,
                         velocity: crate::Vec3::new(
