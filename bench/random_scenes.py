@@ -5,11 +5,13 @@ goes wrong: a panic, a time-out, a shot stopped at run time (exit 1, summary.jso
 batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
-                                   [--seed 1] [--out /tmp/peenflow-random]
+                                   [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
-tolerance from 1e-8 to 1e-3, contact_steps, max_step_ms and effects switched on or off.
+tolerance from 1e-8 to 1e-3, contact_steps, max_step_ms and effects switched on or off. With --ballistic: boxes of up to 3,000 shots thrown at the
+specimen without air (the event scheduler), at random sizes, speeds, packing,
+restitutions, friction and tolerances.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -112,6 +114,40 @@ def scene(r):
     return "\n".join(lines) + "\n"
 
 
+def ballistic_scene(r):
+    """A scene without air or nozzle wall (the event scheduler's): a box of shots thrown
+    at the specimen, as LIGGGHTS' stream.in, at random sizes, speeds and densities."""
+    d = r.uniform(0.2, 1.5)
+    side = r.uniform(5, 40)
+    height = r.uniform(2, 20)
+    # Shots up to about 15 % of the box's volume.
+    fill = r.uniform(0.005, 0.15)
+    count = max(1, min(3000, int(fill * side * side * height / (3.1416 / 6 * d ** 3))))
+    lines = [
+        f"seed = {r.randrange(1000)}",
+        f"duration_ms = {r.choice([0.2, 0.5, 1.0, 2.0])}",
+        f"gravity_m_s2 = {r.choice([0, 9.81, 9.81, 100])}",
+        "[shots]",
+        f"diameter_mm = {d:.3f}",
+        "[shots.feed]",
+        'type = "box"',
+        f"count = {count}",
+        f"min_mm = [0.0, 0.0, {r.uniform(0.5 * d, 2.0):.3f}]",
+        f"max_mm = [{side:.3f}, {side:.3f}, {2.0 + height:.3f}]",
+        f"velocity_m_s = [{r.uniform(-20, 20):.2f}, {r.uniform(-20, 20):.2f}, {r.uniform(-120, -1):.2f}]",
+        "[restitution]",
+    ]
+    for k in ["shot_specimen", "shot_shot"]:
+        lines.append(f"{k} = {r.choice([0.3, 0.7, 0.9, 1.0, r.uniform(0.05, 1)]):.3f}")
+    if r.random() < 0.5:
+        lines.append("[friction]")
+        for k in ["shot_specimen", "shot_shot"]:
+            lines.append(f"{k} = {r.choice([0, 0.1, 0.3, 0.8, r.uniform(0, 2)]):.3f}")
+    lines += ["[integrator]", f"tolerance = {r.choice([1e-8, 1e-6, 1e-5, 1e-4, 1e-3])}"]
+    lines += ["[effects]", "drag = false", "lateral_force = false", "nozzle_wall_contact = false"]
+    return "\n".join(lines) + "\n"
+
+
 def check(binary, path, out):
     """What went wrong with one run (empty: nothing), and whether the scene was refused."""
     try:
@@ -150,6 +186,8 @@ def main():
     ap.add_argument("--count", type=int, default=500)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default="/tmp/peenflow-random")
+    ap.add_argument("--ballistic", action="store_true",
+                    help="boxes of shots thrown at the specimen without air (the event scheduler)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
@@ -157,7 +195,7 @@ def main():
         r = random.Random(a.seed * 1_000_003 + k)
         path = os.path.join(a.out, f"scene_{a.seed}_{k}.toml")
         with open(path, "w") as f:
-            f.write(scene(r))
+            f.write(ballistic_scene(r) if a.ballistic else scene(r))
         out = os.path.join(a.out, f"out_{a.seed}_{k}")
         bad, was_refused = check(a.binary, path, out)
         refused += was_refused
