@@ -313,6 +313,8 @@ pub struct RunTail {
     pub snapshots: Vec<(f64, Vec<SnapshotPoint>)>,
     /// The scheduler that ran.
     pub scheduler: &'static str,
+    /// Why it is not the one the scene chose (the event scheduler gave up), if so.
+    pub scheduler_note: Option<String>,
     /// Most shot states held at once: the shots in flight plus, in a stream, those fed
     /// but not entered yet and finished ones waiting for an older shot to finish (shots
     /// go to the sink in id order); every shot fed when the run is not streamed.
@@ -706,11 +708,30 @@ impl Simulation {
     /// `run_independent_streamed`). The event scheduler holds every shot and hands
     /// everything over at the end. Same records, in the same order, either way.
     pub fn run_into(mut self, sink: &mut dyn RunSink, progress: &(dyn Fn(f64) + Sync)) -> RunTail {
-        let scheduler = self.scheduler_in_use();
+        let mut scheduler = self.scheduler_in_use();
+        let mut scheduler_note = None;
         let streamed =
             matches!(scheduler, "windows" | "independent") && self.snapshot_interval.is_none();
         if !streamed {
             self.materialise();
+        }
+        if scheduler == "events" {
+            let mut shots = self.shots.take_all();
+            match crate::events::run(
+                &self.physics,
+                &mut shots,
+                self.end,
+                self.lean_contacts,
+                progress,
+            ) {
+                Ok(out) => self.commit_output(out),
+                Err(gave_up) => {
+                    // The shots are as they were given: the same run on windows.
+                    scheduler = "windows";
+                    scheduler_note = Some(gave_up.to_string());
+                }
+            }
+            self.shots = ShotStore::from_vec(shots);
         }
         if scheduler == "independent" && streamed {
             self.run_independent_streamed(sink, progress);
@@ -718,18 +739,7 @@ impl Simulation {
             let mut shots = self.shots.take_all();
             self.run_independent(&mut shots, progress);
             self.shots = ShotStore::from_vec(shots);
-        } else if scheduler == "events" {
-            let mut shots = self.shots.take_all();
-            let out = crate::events::run(
-                &self.physics,
-                &mut shots,
-                self.end,
-                self.lean_contacts,
-                progress,
-            );
-            self.shots = ShotStore::from_vec(shots);
-            self.commit_output(out);
-        } else {
+        } else if scheduler == "windows" {
             while self.t < self.end {
                 let now = self.t;
                 self.admit(|t| t <= now);
@@ -781,6 +791,7 @@ impl Simulation {
             window_redos: self.window_redos,
             end_time: self.end,
             scheduler,
+            scheduler_note,
             peak_shots_held: self.peak_held,
         }
     }

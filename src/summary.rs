@@ -214,6 +214,10 @@ pub struct Summary {
     /// Scheduler that ran: `windows`, `events` (ballistic scenes) or `independent` (no
     /// shot-shot contact).
     pub scheduler: String,
+    /// Why the scheduler that ran is not the one the scene chose (the event scheduler
+    /// gave up on a dense pile and the run was redone on windows), if so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scheduler_note: Option<String>,
     /// Synchronisation windows.
     pub windows: u64,
     /// Windows re-run after an unpaired overlap.
@@ -335,6 +339,7 @@ impl SummaryBuilder {
             },
             work: run.work,
             scheduler: run.scheduler.to_string(),
+            scheduler_note: run.scheduler_note.clone(),
             windows: run.windows,
             window_redos: run.window_redos,
             peak_shots_held: run.peak_shots_held,
@@ -463,6 +468,9 @@ impl Summary {
                 "settled: {} times a lone shot settled onto the specimen and slid or rolled along it (docs/model.md)",
                 self.work.slides
             );
+        }
+        if let Some(note) = &self.scheduler_note {
+            let _ = writeln!(s, "scheduler: {note}");
         }
         if self.work.entries_held > 0 {
             let _ = writeln!(

@@ -170,6 +170,7 @@ fn long_tables_are_written_block_by_block_and_read_back_exactly() {
             end_time: 0.01,
             snapshots: Vec::new(),
             scheduler: "windows",
+            scheduler_note: None,
             peak_shots_held: n as usize,
         },
     };

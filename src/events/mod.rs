@@ -88,7 +88,7 @@ use std::cmp::Ordering;
 const NONE: u32 = u32::MAX;
 /// Longest cluster chunk, s.
 const MAX_CHUNK: f64 = 1e-4;
-/// Redos of one cluster chunk before its result is accepted as it is.
+/// Redos of one cluster chunk before the scheduler gives up (`Engine::gave_up`).
 const MAX_REDOS: u32 = 8;
 /// Free paths closer than contact distance times (1 + this) join a cluster.
 const SLACK: f64 = 0.1;
@@ -383,17 +383,44 @@ struct Engine<'a> {
     tables: [Option<ContactTable>; 2],
     cells: CellList,
     buf: Vec<usize>,
+    /// Set when a cluster chunk stays unverified after `MAX_REDOS` redos (a member
+    /// outran the speed bound, or a shot outside reached a member): the run stops, as
+    /// accepting it would leave a contact to be found late, up to a whole overlap deep
+    /// (random dense, frictional packs found this in session 23).
+    gave_up: Option<GaveUp>,
+}
+
+/// Why the event scheduler stopped a run before its end (see `Engine::gave_up`): the
+/// shots are left as they were given, to be run on windows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaveUp {
+    /// Start of the cluster chunk it could not verify, s.
+    pub time_s: f64,
+    /// Shots in that cluster.
+    pub members: usize,
+}
+
+impl std::fmt::Display for GaveUp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the event scheduler gave up at t = {:.6} ms: a cluster of {} shots kept being reached by shots from outside it (a dense pile); the run was redone on windows",
+            self.time_s * 1e3,
+            self.members
+        )
+    }
 }
 
 /// Runs `shots` from 0 to `end` with the event scheduler (see the module docs); returns
-/// the impacts, run events and work counters. `progress` gets the finished fraction.
+/// the impacts, run events and work counters, or why it gave up (the shots are then as
+/// given). `progress` gets the finished fraction.
 pub fn run(
     phys: &Physics,
     shots: &mut [ShotState],
     end: f64,
     lean: bool,
     progress: &(dyn Fn(f64) + Sync),
-) -> IslandOutput {
+) -> Result<IslandOutput, GaveUp> {
     // The engine runs on the shots in space-filling-curve order of where they start, so
     // that shots that meet mostly sit near each other in memory (the states are a few
     // hundred bytes each); they go back to their places afterwards.
@@ -402,11 +429,14 @@ pub fn run(
     let mut eng = Engine::new(phys, &mut sorted, end);
     eng.lean = lean;
     eng.run(progress);
+    if let Some(g) = eng.gave_up {
+        return Err(g);
+    }
     let out = eng.out;
     for (s, &i) in sorted.into_iter().zip(&order) {
         shots[i] = s;
     }
-    out
+    Ok(out)
 }
 
 /// Indices of `shots` in Morton (Z-curve) order of their starting positions on cells of
@@ -523,6 +553,7 @@ impl<'a> Engine<'a> {
             },
             cells: CellList::default(),
             buf: Vec::new(),
+            gave_up: None,
             shots,
         }
     }
@@ -588,7 +619,7 @@ impl<'a> Engine<'a> {
         }
         let mut handled = 0u64;
         while let Some(ev) = self.queue.pop() {
-            if ev.t > self.end {
+            if ev.t > self.end || self.gave_up.is_some() {
                 break;
             }
             self.t_now = ev.t;
@@ -1019,6 +1050,13 @@ impl<'a> Engine<'a> {
                     extra.extend(chunk.missed);
                     continue;
                 }
+            }
+            if chunk.v_seen > vb || chunk.violator.is_some() {
+                self.gave_up = Some(GaveUp {
+                    time_s: s,
+                    members: cl.members.len(),
+                });
+                return;
             }
             self.commit(slot, cl, e, chunk);
             return;

@@ -448,6 +448,7 @@ fn write_case(
             end_time: 0.0,
             snapshots: Vec::new(),
             scheduler: runs.first().map_or("windows", |r| r.1.scheduler),
+            scheduler_note: None,
             peak_shots_held: 0,
         },
     };
@@ -464,6 +465,10 @@ fn write_case(
         pooled.window_redos += out.window_redos;
         pooled.end_time = pooled.end_time.max(out.end_time);
         pooled.peak_shots_held = pooled.peak_shots_held.max(out.peak_shots_held);
+        if let Some(note) = &out.scheduler_note {
+            pooled.scheduler = out.scheduler;
+            pooled.scheduler_note = Some(format!("seed {seed}: {note}"));
+        }
     }
     let mut scene = case.scene.clone();
     scene.seed = runs[0].0;
