@@ -248,15 +248,7 @@ proptest! {
     ) {
         prop_assume!(diameter < 0.6 * bore);
         let text = format!(
-            r#"
-seed = {seed}
-duration_ms = 20.0
-[air]
-gauge_pressure_mpa = {pressure}
-[nozzle]
-bore_mm = {bore}
-length_mm = {length}
-standoff_mm = {standoff}
+            r#"{}
 [jet]
 model = "{}"
 core_density = "{}"
@@ -268,6 +260,7 @@ count = {count}
 radial_offset_mm = [0.0, {}]
 axial_spread_mm = {}
 "#,
+            nozzle(seed, 20.0, pressure, [bore, length, standoff]),
             if consistent { "consistent" } else { "paper" },
             if rho_0 { "rho_0" } else { "rho_star" },
             0.5 * bore - 0.5 * diameter,
@@ -310,15 +303,7 @@ proptest! {
         let d_max = size * bore;
         let d_min = d_max * (1.0 - spread);
         let text = format!(
-            r#"
-seed = {seed}
-duration_ms = 12.0
-[air]
-gauge_pressure_mpa = {pressure}
-[nozzle]
-bore_mm = {bore}
-length_mm = {length}
-standoff_mm = {standoff}
+            r#"{}
 angle_deg = {angle}
 azimuth_deg = {azimuth}
 [jet]
@@ -346,6 +331,7 @@ tolerance = {tolerance}
 [effects]
 shot_shot_contact = {pairs}
 "#,
+            nozzle(seed, 12.0, pressure, [bore, length, standoff]),
             if poisson { "poisson" } else { "regular" },
             e.0,
             e.1,
@@ -376,4 +362,12 @@ fn runs_clean(text: &str, cap: f64) -> Result<(), TestCaseError> {
         );
     }
     Ok(())
+}
+
+/// The top of a random scene: seed, duration (ms), supply pressure (MPa) and the nozzle's
+/// bore, length and stand-off (mm), ending inside its `[nozzle]` table.
+fn nozzle(seed: u64, ms: f64, pressure: f64, [bore, length, standoff]: [f64; 3]) -> String {
+    format!(
+        "seed = {seed}\nduration_ms = {ms}\n[air]\ngauge_pressure_mpa = {pressure}\n[nozzle]\nbore_mm = {bore}\nlength_mm = {length}\nstandoff_mm = {standoff}"
+    )
 }
