@@ -404,7 +404,7 @@ impl std::fmt::Display for GaveUp {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "the event scheduler gave up at t = {:.6} ms: a cluster of {} shots kept being reached by shots from outside it (a dense pile); the run was redone on windows",
+            "the event scheduler gave up at t = {:.6} ms: a cluster of {} shots kept being reached by shots from outside it (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt)",
             self.time_s * 1e3,
             self.members
         )
