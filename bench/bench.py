@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """peenflow benchmarks (never run as tests; numbers go to docs/performance.md).
 
-usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggghts-feed] [--effects]
+usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggghts-feed] [--liggghts-pile]
+                             [--effects]
                              [--check-matched 'KEY = VALUE; ...']
 
   default     benchmarks (a)-(d) at 1 and 2 threads: wall time, particle-steps/s,
@@ -24,6 +25,10 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggg
               same column height and duration, a wider column; three interleaved rounds,
               the fastest run of each counts, with and without friction 0.3 (about 3
               minutes)
+  --liggghts-pile  the agitated dense pile (bench/scenes/pile_3k.toml, bench/liggghts/pile.in:
+              3,000 shots piling up on an elastic specimen, 2 ms) in LIGGGHTS and in
+              peenflow (auto: the event scheduler, which gives up on the pile, then windows;
+              and windows from the start), one run of each (about 8 minutes)
 
 The machine is shared and noisy: compare ratios measured in one session.
 """
@@ -392,6 +397,35 @@ def liggghts_feed(tmp):
         sys.stdout.flush()
 
 
+def liggghts_pile(tmp):
+    """The agitated dense pile: the contact-dominated case where peenflow's adaptive,
+    error-controlled steps cost most against LIGGGHTS' fixed 20 ns step (docs/performance.md)."""
+    if not shutil.which("liggghts"):
+        sys.exit("liggghts not found: apt-get install -y liggghts")
+    shutil.copy(os.path.join(ROOT, "bench", "liggghts", "pile.in"), tmp)
+    run(["liggghts", "-in", "pile.in", "-log", "log.pile", "-screen", "screen.pile"], tmp)
+    log = open(os.path.join(tmp, "log.pile")).read()
+    lg = liggghts_loop_times(log)[-1]
+    kept = int(re.findall(r"Loop time of [0-9.eE+-]+ on \d+ procs for \d+ steps with (\d+) atoms", log)[-1])
+    scene = os.path.join(SCENES, "pile_3k.toml")
+    text = open(scene).read()
+    win_scene = os.path.join(tmp, "pile_windows.toml")
+    open(win_scene, "w").write(text.replace("tolerance = 1e-4", 'tolerance = 1e-4\nscheduler = "windows"'))
+    auto = peenflow(scene, 1, tmp, "pile_auto")
+    note = json.load(open(os.path.join(tmp, "pile_auto", "summary.json"))).get("scheduler_note", "")
+    win = peenflow(win_scene, 1, tmp, "pile_win")
+    print(f"LIGGGHTS: {kept} of 3000 shots still in its box at the end")
+    if note:
+        print(f"peenflow auto: {note}")
+    print("| pile, 3,000 shots, 2 ms | wall s (1 core) | shot-steps | shot-shot contacts | LIGGGHTS / peenflow |")
+    print("|---|---|---|---|---|")
+    print(f"| LIGGGHTS 3.8, 20 ns steps | {lg:.2f} | {3000 * 100_000:,} | | |")
+    for name, r in (("peenflow auto (events, then windows), tolerance 1e-4", auto),
+                    ("peenflow windows, tolerance 1e-4", win)):
+        print(f"| {name} | {r['wall']:.2f} | {r['shot_steps']:,} | {r['shot_shot']:,} | {lg / r['wall']:.3f} |")
+    sys.stdout.flush()
+
+
 def main():
     argv = sys.argv[1:]
     check = None
@@ -414,6 +448,8 @@ def main():
             liggghts_scale(tmp)
         if "--liggghts-feed" in args:
             liggghts_feed(tmp)
+        if "--liggghts-pile" in args:
+            liggghts_pile(tmp)
         if "--effects" in args:
             effects(tmp)
         if not args - {"--quick"}:
