@@ -32,7 +32,7 @@ const MAX_WINDOW: f64 = 1e-4;
 /// Shortest synchronisation window, s.
 const MIN_WINDOW: f64 = 1e-8;
 /// Largest island the window length tries to keep (see `Simulation::window`).
-const MAX_ISLAND: usize = 32;
+pub(crate) const MAX_ISLAND: usize = 32;
 
 /// How a run schedules its shots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -60,7 +60,10 @@
 //!
 //! A cluster still in contact after its chunk (a shot resting on the specimen, a
 //! persistent clump) continues with chunks doubling up to 0.1 ms; members not in contact
-//! are released to free flight. Processing is sequential and ordered by (time, kind,
+//! are released to free flight. A chunk still unverified after `MAX_REDOS` redos, or
+//! integrator steps that carry more than `sim::MAX_ISLAND` shots each on average (a pile
+//! integrated as one island), make the scheduler give up ([`GaveUp`]); the caller redoes
+//! the run on windows. Processing is sequential and ordered by (time, kind,
 //! shots): results do not depend on the thread count. The engine works on the shots in
 //! Z-curve order of where they start (memory locality; `spatial_order`) and keys pairs
 //! by shot id, never by its own indices.
@@ -90,6 +93,9 @@ const NONE: u32 = u32::MAX;
 const MAX_CHUNK: f64 = 1e-4;
 /// Redos of one cluster chunk before the scheduler gives up (`Engine::gave_up`).
 const MAX_REDOS: u32 = 8;
+/// Integrator steps the scheduler takes before it judges its islands' size (below, the
+/// first clusters' sizes say little about the run).
+const PILE_WARMUP_STEPS: u64 = 10_000;
 /// Free paths closer than contact distance times (1 + this) join a cluster.
 const SLACK: f64 = 0.1;
 /// Cluster members whose free paths come closer than contact distance times (1 + this)
@@ -386,7 +392,9 @@ struct Engine<'a> {
     /// Set when a cluster chunk stays unverified after `MAX_REDOS` redos (a member
     /// outran the speed bound, or a shot outside reached a member): the run stops, as
     /// accepting it would leave a contact to be found late, up to a whole overlap deep
-    /// (random dense, frictional packs found this in session 23).
+    /// (random dense, frictional packs found this in session 23). Set too when its
+    /// integrator steps have carried more than `sim::MAX_ISLAND` shots each on average
+    /// (a pile integrated as one island: windows split it; session 24).
     gave_up: Option<GaveUp>,
 }
 
@@ -394,19 +402,41 @@ struct Engine<'a> {
 /// shots are left as they were given, to be run on windows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaveUp {
-    /// Start of the cluster chunk it could not verify, s.
+    /// Start of the cluster chunk it gave up on, s.
     pub time_s: f64,
     /// Shots in that cluster.
     pub members: usize,
+    /// Why.
+    pub why: GiveUpReason,
+}
+
+/// Why the event scheduler gave up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GiveUpReason {
+    /// A cluster chunk was still unverified after `MAX_REDOS` redos.
+    Unverified,
+    /// Its integrator steps carried this many shots each on average, more than
+    /// `sim::MAX_ISLAND`.
+    Islands(f64),
 }
 
 impl std::fmt::Display for GaveUp {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let why = match self.why {
+            GiveUpReason::Unverified => format!(
+                "a cluster of {} shots kept being reached by shots from outside it",
+                self.members
+            ),
+            GiveUpReason::Islands(mean) => format!(
+                "its clusters (the last of {} shots) carried {mean:.1} shots per integrator step on average, more than the {} the window scheduler keeps its islands to",
+                self.members,
+                crate::sim::MAX_ISLAND
+            ),
+        };
         write!(
             f,
-            "the event scheduler gave up at t = {:.6} ms: a cluster of {} shots kept being reached by shots from outside it (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt)",
+            "the event scheduler gave up at t = {:.6} ms: {why} (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt)",
             self.time_s * 1e3,
-            self.members
         )
     }
 }
@@ -1055,10 +1085,25 @@ impl<'a> Engine<'a> {
                 self.gave_up = Some(GaveUp {
                     time_s: s,
                     members: cl.members.len(),
+                    why: GiveUpReason::Unverified,
                 });
                 return;
             }
+            let members = cl.members.len();
             self.commit(slot, cl, e, chunk);
+            // A pile integrated as one island makes every member take the step of
+            // whichever is mid-impact; windows split it into islands of at most
+            // `MAX_ISLAND` shots, and beat this scheduler by far once its steps carry more
+            // than that on average (a 3,000-shot pile: 217 s against 21 s, session 24).
+            let w = &self.out.work;
+            let carried = crate::sim::MAX_ISLAND as u64 * w.steps_accepted;
+            if w.steps_accepted >= PILE_WARMUP_STEPS && w.shot_steps > carried {
+                self.gave_up = Some(GaveUp {
+                    time_s: s,
+                    members,
+                    why: GiveUpReason::Islands(w.shot_steps as f64 / w.steps_accepted as f64),
+                });
+            }
             return;
         }
     }
