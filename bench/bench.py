@@ -151,11 +151,12 @@ MATCHED = "[integrator]\ntolerance = 1e-4\n"
 FRICTION = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n"
 
 
-def liggghts_inputs(tmp, names):
-    """Copies LIGGGHTS' input files `names` into tmp (exits if LIGGGHTS is missing)."""
+def liggghts_inputs(tmp, names, inputs=None):
+    """Copies LIGGGHTS' input files `names` into tmp (exits if LIGGGHTS is missing), from
+    `inputs` (default: the shared reference inputs)."""
     if not shutil.which("liggghts"):
         sys.exit("liggghts not found: apt-get install -y liggghts")
-    inputs = os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
+    inputs = inputs or os.environ.get("LIGGGHTS_INPUTS", os.path.join(ROOT, "..", "shared", "bench", "liggghts"))
     for f in names:
         shutil.copy(os.path.join(inputs, f), tmp)
 
@@ -400,9 +401,7 @@ def liggghts_feed(tmp):
 def liggghts_pile(tmp):
     """The agitated dense pile: the contact-dominated case where peenflow's adaptive,
     error-controlled steps cost most against LIGGGHTS' fixed 20 ns step (docs/performance.md)."""
-    if not shutil.which("liggghts"):
-        sys.exit("liggghts not found: apt-get install -y liggghts")
-    shutil.copy(os.path.join(ROOT, "bench", "liggghts", "pile.in"), tmp)
+    liggghts_inputs(tmp, ("pile.in",), os.path.join(ROOT, "bench", "liggghts"))
     run(["liggghts", "-in", "pile.in", "-log", "log.pile", "-screen", "screen.pile"], tmp)
     log = open(os.path.join(tmp, "log.pile")).read()
     lg = liggghts_loop_times(log)[-1]
