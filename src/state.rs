@@ -105,6 +105,13 @@ pub struct ShotState {
     /// and the next window goes on from the step's exact end (see
     /// [`crate::integrate::island::advance_alone`]).
     pub ahead: Option<std::sync::Arc<crate::integrate::dopri::DenseStep>>,
+    /// The fixed-step method's last force evaluation for this shot (acceleration, angular
+    /// acceleration), at its current position with its half-step velocity: the first
+    /// half-kick of its next step. Carried across windows, so that a window's start does
+    /// not re-evaluate velocity-dependent forces (contact damping, drag, friction) with the
+    /// full-step velocity: the steps are those of one global velocity Verlet, however the
+    /// run is cut into windows.
+    pub verlet_acc: Option<(Vec3, Vec3)>,
 }
 
 impl ShotState {
@@ -138,6 +145,7 @@ impl ShotState {
             first_contact_steps: 0,
             t_stop: None,
             ahead: None,
+            verlet_acc: None,
         }
     }
 

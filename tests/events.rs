@@ -522,6 +522,11 @@ fn redone_on_windows(text: &str, why: &str) {
     );
     // It tells how to skip the attempt (a pile can spend most of a run on it).
     assert!(note.contains("`scheduler = \"windows\"`"), "{note}");
+    // And how to step it as a DEM code would.
+    assert!(
+        note.contains("`method = \"verlet\"` with `fixed_step_ns = "),
+        "{note}"
+    );
     assert!(a.events.is_empty() && w.events.is_empty());
     assert_eq!(a.impacts, w.impacts);
     assert_eq!(a.shots.len(), w.shots.len());
@@ -554,4 +559,48 @@ fn a_pile_integrated_as_one_island_is_run_on_windows() {
     // shots than the window scheduler's islands hold, it gives up.
     let text = "seed = 392\nduration_ms = 0.5\ngravity_m_s2 = 9.81\n[shots]\ndiameter_mm = 0.574\n[shots.feed]\ntype = \"box\"\ncount = 600\nmin_mm = [0.0, 0.0, 1.180]\nmax_mm = [7.392, 7.392, 19.802]\nvelocity_m_s = [0.68, 0.16, -24.66]\n[restitution]\nshot_specimen = 0.3\nshot_shot = 0.3\n[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
     redone_on_windows(text, "shots per integrator step on average");
+}
+
+#[test]
+fn the_give_up_suggests_a_fiftieth_of_the_fastest_contact_time_as_fixed_step() {
+    // Hertz (Johnson, Contact Mechanics, 11.2): t_c = 2.943 (5 m* / (4 K))^(2/5) v^(-1/5),
+    // K = 4/3 E* sqrt(R*), 1/E* = 2 (1 - nu^2) / E for steel on steel.
+    let hertz_time = |m: f64, r: f64, v: f64| {
+        let e_star = common::E_STEEL / (2.0 * (1.0 - common::NU_STEEL * common::NU_STEEL));
+        let k = 4.0 / 3.0 * e_star * r.sqrt();
+        2.943 * (1.25 * m / k).powf(0.4) * v.powf(-0.2)
+    };
+    let slow = shot(
+        0,
+        0.8e-3,
+        Vec3::new(0.0, 0.0, 1e-3),
+        Vec3::new(3.0, 0.0, 0.0),
+    );
+    let fast = shot(
+        1,
+        0.8e-3,
+        Vec3::new(0.0, 0.0, 3e-3),
+        Vec3::new(0.0, 0.0, -40.0),
+    );
+    let small = shot(
+        2,
+        0.3e-3,
+        Vec3::new(0.0, 0.0, 5e-3),
+        Vec3::new(0.0, 0.0, -1.0),
+    );
+    let shots = [slow, fast, small.clone()];
+    let (m, r) = (small.body.mass, small.body.radius);
+    // Two of the smallest shots head-on at twice the fastest speed: shorter than one on
+    // the specimen at that speed (half the effective mass and radius).
+    let both = peenflow::events::fixed_step_hint(&contact_physics(Some(0.7), Some(0.7)), &shots);
+    assert!(
+        rel(both, hertz_time(m / 2.0, r / 2.0, 80.0) / 50.0) < 1e-3,
+        "{both}"
+    );
+    let specimen = peenflow::events::fixed_step_hint(&contact_physics(Some(0.7), None), &shots);
+    assert!(
+        rel(specimen, hertz_time(m, r, 40.0) / 50.0) < 1e-3,
+        "{specimen}"
+    );
+    assert!(both < specimen);
 }

@@ -384,6 +384,8 @@ struct Engine<'a> {
     scratch: Scratch,
     /// Whether lone contacts take the lean path.
     lean: bool,
+    /// A step for the fixed-step method, s, for the give-up message ([`fixed_step_hint`]).
+    fixed_step: f64,
     /// The tabulated impacts of the pair and the specimen law, where the lean path may
     /// use them (frictionless, tolerance at least `table::FROM_TOLERANCE`).
     tables: [Option<ContactTable>; 2],
@@ -408,6 +410,8 @@ pub struct GaveUp {
     pub members: usize,
     /// Why.
     pub why: GiveUpReason,
+    /// A step for the fixed-step method on this scene, s ([`fixed_step_hint`]).
+    pub fixed_step: f64,
 }
 
 /// Why the event scheduler gave up.
@@ -433,12 +437,49 @@ impl std::fmt::Display for GaveUp {
                 crate::sim::MAX_ISLAND
             ),
         };
+        let ns = self.fixed_step * 1e9;
+        let ns = if ns >= 10.0 {
+            format!("{ns:.0}")
+        } else {
+            format!("{:.2}", ns)
+        };
         write!(
             f,
-            "the event scheduler gave up at t = {:.6} ms: {why} (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt)",
+            "the event scheduler gave up at t = {:.6} ms: {why} (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt; `method = \"verlet\"` with `fixed_step_ns = {ns}`, a fiftieth of the fastest impact's contact time, steps a pile as LIGGGHTS does, at that step's accuracy and usually much faster: docs/performance.md)",
             self.time_s * 1e3,
         )
     }
+}
+
+/// A fixed step for `method = "verlet"` on `shots`, as a DEM code such as LIGGGHTS would
+/// choose it: a fiftieth of the shortest Hertz contact time at the fastest shot's speed,
+/// of the smallest shot on the specimen or of two such shots meeting head-on, s.
+pub fn fixed_step_hint(phys: &Physics, shots: &[ShotState]) -> f64 {
+    let Some(small) = shots
+        .iter()
+        .min_by(|a, b| a.body.radius.total_cmp(&b.body.radius))
+    else {
+        return f64::INFINITY;
+    };
+    let (r, m) = (small.body.radius, small.body.mass);
+    let v = shots
+        .iter()
+        .map(|s| s.vel.norm())
+        .fold(0.0, f64::max)
+        .max(1e-3);
+    let mut tc = f64::INFINITY;
+    if let Some(sp) = &phys.contacts.specimen {
+        tc = tc.min(hertz::contact_time(
+            m,
+            sp.law.stiffness(sp.effective_radius(r)),
+            v,
+        ));
+    }
+    if let Some(pc) = &phys.contacts.pair {
+        let k = pc.law.stiffness(PairContact::effective_radius(r, r));
+        tc = tc.min(hertz::contact_time(effective_mass(m, m), k, 2.0 * v));
+    }
+    tc / 50.0
 }
 
 /// Runs `shots` from 0 to `end` with the event scheduler (see the module docs); returns
@@ -499,6 +540,7 @@ fn spatial_order(shots: &[ShotState]) -> Vec<usize> {
 impl<'a> Engine<'a> {
     fn new(phys: &'a Physics, shots: &'a mut [ShotState], end: f64) -> Self {
         let n = shots.len();
+        let fixed_step = fixed_step_hint(phys, shots);
         let g = phys.forces.gravity.map_or(0.0, |g| -g.acceleration.z);
         let r_max = shots
             .iter()
@@ -570,6 +612,7 @@ impl<'a> Engine<'a> {
             out: IslandOutput::default(),
             scratch: Scratch::default(),
             lean: true,
+            fixed_step,
             tables: {
                 let c = &phys.contacts;
                 let table = |law: Option<&crate::contact::HertzLaw>| {
@@ -1086,6 +1129,7 @@ impl<'a> Engine<'a> {
                     time_s: s,
                     members: cl.members.len(),
                     why: GiveUpReason::Unverified,
+                    fixed_step: self.fixed_step,
                 });
                 return;
             }
@@ -1102,6 +1146,7 @@ impl<'a> Engine<'a> {
                     time_s: s,
                     members,
                     why: GiveUpReason::Islands(w.shot_steps as f64 / w.steps_accepted as f64),
+                    fixed_step: self.fixed_step,
                 });
             }
             return;

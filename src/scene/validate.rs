@@ -962,11 +962,6 @@ impl SceneFile {
         };
         let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
         let effects = EffectRequest::from_value(f.effects.as_ref(), path)?;
-        let friction_asked = effects.switches[6] == super::effects::Switch::On
-            || (effects.switches[6] == super::effects::Switch::Auto
-                && (friction.shot_specimen > 0.0
-                    || friction.shot_shot > 0.0
-                    || friction.shot_nozzle > 0.0));
         let turbulence_asked = effects.switches[7] == super::effects::Switch::On
             || (effects.switches[7] == super::effects::Switch::Auto
                 && jet.turbulence_intensity > 0.0);
@@ -975,13 +970,6 @@ impl SceneFile {
                 "integrator.method",
                 "the velocity-Verlet baseline does not renew turbulent eddies: use method = \"adaptive\" \
                  with jet.turbulence_intensity > 0, or set effects.turbulent_dispersion = false",
-            ));
-        }
-        if friction_asked && matches!(method, crate::integrate::island::Method::Verlet { .. }) {
-            return Err(c.invalid(
-                "integrator.method",
-                "the velocity-Verlet baseline integrates no shot spin: use method = \"adaptive\" \
-                 with friction, or set effects.friction = false",
             ));
         }
         let dm = &f.domain;

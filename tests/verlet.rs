@@ -1,0 +1,175 @@
+//! The fixed-step method (`method = "verlet"`) is one global velocity Verlet, as LIGGGHTS'
+//! `nve/sphere` integrates: every shot takes the same whole step on one time grid, the
+//! force is evaluated once per step at the new positions with the half-step velocities,
+//! and that evaluation serves both half-kicks around it. Checked against an independent
+//! velocity Verlet written here, on a scene the window scheduler cuts into many windows
+//! and islands.
+
+use peenflow::Vec3;
+use peenflow::contact::{HertzLaw, PairContact, effective_mass};
+use peenflow::scene::Scene;
+use peenflow::sim::{RunOutput, Simulation};
+
+const STEP_NS: f64 = 20.0;
+const DURATION_MS: f64 = 0.1;
+
+/// Three shots in a slanted column falling fast onto the specimen (the lowest bounces
+/// into the ones above, which bounce on each other), and one shot far to the side.
+const SHOTS: [([f64; 3], [f64; 3]); 4] = [
+    ([0.0, 0.0, 0.5], [0.0, 0.0, -20.0]),
+    ([0.1, 0.05, 1.4], [0.0, 0.0, -25.0]),
+    ([0.15, -0.05, 2.3], [0.5, 0.0, -30.0]),
+    ([5.0, 0.0, 0.5], [0.0, 0.0, -10.0]),
+];
+
+fn scene(extra: &str) -> Scene {
+    let mut text = format!(
+        "duration_ms = {DURATION_MS}\ngravity_m_s2 = 9.81\n[shots]\ndiameter_mm = 0.8\n\
+         [shots.feed]\ntype = \"list\"\n"
+    );
+    for (p, v) in SHOTS {
+        text += &format!(
+            "[[shots.feed.shots]]\nposition_mm = [{}, {}, {}]\nvelocity_m_s = [{}, {}, {}]\n",
+            p[0], p[1], p[2], v[0], v[1], v[2]
+        );
+    }
+    text += &format!(
+        "[restitution]\nshot_specimen = 0.7\nshot_shot = 0.8\n\
+         [integrator]\nmethod = \"verlet\"\nfixed_step_ns = {STEP_NS}\n{extra}\
+         [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n"
+    );
+    Scene::from_toml(&text, "verlet test").unwrap()
+}
+
+fn run(scene: &Scene) -> RunOutput {
+    Simulation::new(scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {})
+}
+
+/// Velocity Verlet of the same shots, written from the method's definition: gravity,
+/// Hertz contact with the flat specimen and between shots (the library's force law,
+/// tested against theory in tests/physics_hertz.rs), contacts seen when a step ends
+/// overlapping.
+fn independent(scene: &Scene, radius: f64, mass: f64) -> Vec<(Vec3, Vec3)> {
+    let shot = &scene.shot_material;
+    let law = |m: &peenflow::scene::Material, e| {
+        HertzLaw::new(
+            shot.youngs_modulus,
+            shot.poisson_ratio,
+            m.youngs_modulus,
+            m.poisson_ratio,
+            e,
+        )
+    };
+    let specimen = law(&scene.specimen_material, scene.restitution.shot_specimen);
+    let pair = law(shot, scene.restitution.shot_shot);
+    let n = SHOTS.len();
+    let mut x: Vec<Vec3> = SHOTS
+        .iter()
+        .map(|(p, _)| Vec3::new(p[0], p[1], p[2]) * 1e-3)
+        .collect();
+    let mut v: Vec<Vec3> = SHOTS
+        .iter()
+        .map(|(_, v)| Vec3::new(v[0], v[1], v[2]))
+        .collect();
+    let force = |x: &[Vec3], v: &[Vec3]| -> Vec<Vec3> {
+        let mut a: Vec<Vec3> = (0..n)
+            .map(|i| {
+                let mut a = Vec3::new(0.0, 0.0, -scene.gravity);
+                let overlap = radius - x[i].z;
+                if overlap > 0.0 {
+                    let k = specimen.stiffness(radius);
+                    a.z += specimen.force(k, mass, overlap, -v[i].z) / mass;
+                }
+                a
+            })
+            .collect();
+        for i in 0..n {
+            for j in i + 1..n {
+                let d = x[j] - x[i];
+                let dist = d.norm();
+                let overlap = 2.0 * radius - dist;
+                if overlap > 0.0 {
+                    let nrm = d / dist;
+                    let k = pair.stiffness(PairContact::effective_radius(radius, radius));
+                    let f = pair.force(
+                        k,
+                        effective_mass(mass, mass),
+                        overlap,
+                        -(v[j] - v[i]).dot(&nrm),
+                    );
+                    a[i] -= nrm * (f / mass);
+                    a[j] += nrm * (f / mass);
+                }
+            }
+        }
+        a
+    };
+    let h = STEP_NS * 1e-9;
+    let steps = (DURATION_MS * 1e-3 / h).round() as usize;
+    let mut a = force(&x, &v);
+    for _ in 0..steps {
+        for i in 0..n {
+            v[i] += a[i] * (0.5 * h);
+            x[i] += v[i] * h;
+        }
+        a = force(&x, &v);
+        for i in 0..n {
+            v[i] += a[i] * (0.5 * h);
+        }
+    }
+    x.into_iter().zip(v).collect()
+}
+
+#[test]
+fn the_fixed_step_method_is_one_global_velocity_verlet() {
+    let scene = scene("");
+    let out = run(&scene);
+    assert_eq!(out.scheduler, "windows");
+    // Cut into many windows (their ends on the step grid), with a shot on its own island.
+    println!("{} windows", out.windows);
+    assert!(out.windows > 10, "{} windows", out.windows);
+    let steps = (DURATION_MS * 1e-3 / (STEP_NS * 1e-9)).round() as u64;
+    // Whole steps only: every shot takes exactly duration / step of them.
+    for s in &out.shots {
+        assert_eq!(s.steps, steps, "shot {}", s.id.0);
+    }
+    assert_eq!(out.work.shot_steps, 4 * steps);
+    // The column collides: shots bounce on the specimen and on each other.
+    let hits: u32 = out.shots.iter().map(|s| s.hits).sum();
+    let collisions: u32 = out.shots.iter().map(|s| s.collisions).sum();
+    assert!(
+        hits >= 4 && collisions >= 4,
+        "{hits} hits, {collisions} collisions"
+    );
+    let body = out.shots[0].body;
+    let reference = independent(&scene, body.radius, body.mass);
+    for (s, (x, v)) in out.shots.iter().zip(&reference) {
+        let (dx, dv) = ((s.pos - x).norm(), (s.vel - v).norm());
+        println!("shot {}: |dx| {dx:.1e} m, |dv| {dv:.1e} m/s", s.id.0);
+        // Rounding only (the same operations, possibly in another order).
+        assert!(
+            dx < 1e-12 && dv < 1e-8,
+            "shot {}: {dx:e} m, {dv:e} m/s",
+            s.id.0
+        );
+    }
+}
+
+#[test]
+fn the_fixed_step_method_gives_the_same_run_on_one_and_two_threads() {
+    let scene = scene("");
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| run(&scene));
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| run(&scene));
+    assert_eq!(one.shots, two.shots);
+    assert_eq!(one.impacts, two.impacts);
+}
