@@ -6,12 +6,16 @@ batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
+                                   [--verlet]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
 tolerance from 1e-8 to 1e-3, contact_steps, max_step_ms and effects switched on or off. With --ballistic: boxes of up to 3,000 shots thrown at the
 specimen without air (the event scheduler), at random sizes, speeds, packing,
-restitutions, friction and tolerances.
+restitutions, friction and tolerances. With --verlet: the same scenes on the fixed-step
+method (`method = "verlet"`) instead of a tolerance, at a step of 1/20 to 1/100 of the
+shortest Hertz contact time the scene can have, without turbulence (refused with it),
+and shorter (air scenes 1-3 ms, boxes at most 1 ms) since every shot pays every step.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -148,6 +152,42 @@ def ballistic_scene(r):
     return "\n".join(lines) + "\n"
 
 
+def hertz_time(d_mm, v):
+    """Hertz contact time (s) of two steel shots of diameter `d_mm` meeting head-on at `v`
+    (Johnson, Contact Mechanics, 11.2; E 210 GPa, nu 0.3, 7850 kg/m^3)."""
+    r = 0.5e-3 * d_mm
+    m = 7850 * 3.14159265 / 6 * (2 * r) ** 3
+    e_star = 210e9 / (2 * (1 - 0.09))
+    k = 4 / 3 * e_star * (r / 2) ** 0.5
+    return 2.943 * (1.25 * (m / 2) / k) ** 0.4 * v ** -0.2
+
+
+def fixed_step(r, text, ballistic):
+    """`text` on the fixed-step method: the tolerance line replaced by a step of 1/20 to
+    1/100 of the shortest contact time the scene can have, turbulence and long runs cut."""
+    import re
+    sizes = [float(x) for x in re.findall(r"(?:diameter_mm|^min_mm) = ([0-9.]+)", text, re.M)]
+    if 'grade = "S230"' in text or 'grade = "S330"' in text:
+        sizes.append(0.5)  # below the S230 sieve's smallest screen, 0.6 mm
+    d = min(sizes) if sizes else 0.2
+    if ballistic:
+        vel = re.search(r"velocity_m_s = \[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\]", text).groups()
+        v = 2.0 * (sum(float(c) ** 2 for c in vel) ** 0.5 + 1.0)
+    else:
+        v = 2.0 * 150.0  # above the fastest jet-driven shots of these scenes
+    step_ns = hertz_time(d, v) / r.choice([20, 50, 100]) * 1e9
+    lines = []
+    for line in text.splitlines():
+        if line.startswith("turbulence_intensity") or line.startswith("contact_steps"):
+            continue
+        if line.startswith("tolerance = "):
+            line = f'method = "verlet"\nfixed_step_ns = {step_ns:.3f}'
+        if line.startswith("duration_ms = "):
+            line = f"duration_ms = {r.choice([0.2, 0.5, 1.0]) if ballistic else r.choice([1, 2, 3])}"
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
 def check(binary, path, out):
     """What went wrong with one run (empty: nothing), and whether the scene was refused."""
     try:
@@ -188,14 +228,19 @@ def main():
     ap.add_argument("--out", default="/tmp/peenflow-random")
     ap.add_argument("--ballistic", action="store_true",
                     help="boxes of shots thrown at the specimen without air (the event scheduler)")
+    ap.add_argument("--verlet", action="store_true",
+                    help="the scenes on the fixed-step method instead of a tolerance")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
     for k in range(a.count):
         r = random.Random(a.seed * 1_000_003 + k)
         path = os.path.join(a.out, f"scene_{a.seed}_{k}.toml")
+        text = ballistic_scene(r) if a.ballistic else scene(r)
+        if a.verlet:
+            text = fixed_step(r, text, a.ballistic)
         with open(path, "w") as f:
-            f.write(ballistic_scene(r) if a.ballistic else scene(r))
+            f.write(text)
         out = os.path.join(a.out, f"out_{a.seed}_{k}")
         bad, was_refused = check(a.binary, path, out)
         refused += was_refused

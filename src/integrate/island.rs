@@ -1526,16 +1526,21 @@ fn trial(
 /// or lingers there in a tilted nozzle; the feed only keeps the shots it places apart,
 /// `feed::StreamFeed`): its entry moves on by the time the two need to cover a contact
 /// distance at their speeds, and it is tried again then, as LIGGGHTS' insertion waits
-/// for a free place. Counted in `WorkCounters::entries_held`.
+/// for a free place. Counted in `WorkCounters::entries_held`. The fixed-step method,
+/// whose steps are not cut at entries, passes the previous step's start as `since`: a
+/// shot entering in `(since, t]` starts moving at `t` and is checked there (the adaptive
+/// method passes `t`).
 fn hold_entries(
     members: &mut [ShotState],
     pairs: &[IslandPair],
-    t: f64,
+    (since, t): (f64, f64),
     y: &[f64],
     work: &mut WorkCounters,
 ) {
+    let entering =
+        |m: &ShotState| m.is_active() && (m.t_start == t || (m.t_start > since && m.t_start <= t));
     // (Shots placed at the start, a bed's, may touch there on purpose.)
-    if t <= 0.0 || !members.iter().any(|m| m.is_active() && m.t_start == t) {
+    if t <= 0.0 || !members.iter().any(entering) {
         return;
     }
     for pr in pairs {
@@ -1544,7 +1549,7 @@ fn hold_entries(
             (pr.b as usize, pr.a as usize),
         ] {
             let (mi, mj) = (&members[i], &members[j]);
-            if !(mi.is_active() && mi.t_start == t && moving(mj, t)) {
+            if !(entering(mi) && moving(mj, t)) {
                 continue;
             }
             let reach = mi.body.radius + mj.body.radius;
@@ -1835,7 +1840,7 @@ fn advance_adaptive(
             dopri.invalidate();
         }
         if holds {
-            hold_entries(members, pairs, t, y, &mut work);
+            hold_entries(members, pairs, (t, t), y, &mut work);
         }
         // Step size: controller proposal, window end, next shot entering, contact caps.
         // A shot sliding on the specimen steps as its error control allows: every event
@@ -2024,7 +2029,7 @@ fn advance_adaptive(
             dopri.invalidate();
         }
         if holds {
-            hold_entries(members, pairs, t, y, &mut work);
+            hold_entries(members, pairs, (t, t), y, &mut work);
         }
         observer(t, y);
         match ctx.end_of_step(
@@ -2264,6 +2269,12 @@ fn advance_verlet(
         }
     };
     let mut t = t0;
+    // Shots entering in this window (a batch's, placed at the start, never are).
+    let entries = members.iter().any(|m| m.t_start > t0 - step);
+    if entries {
+        // (A shot entering exactly at `t0` joins the run in this window.)
+        hold_entries(members, pairs, (t0 - step, t0), y, &mut work);
+    }
     set_regions(members, t, y);
     ctx.apply_events(members, pairs, t, y, out);
     ctx.rhs(members, pairs, t, y, acc, &mut work);
@@ -2304,6 +2315,11 @@ fn advance_verlet(
                     m.first_contact_steps += 1;
                 }
             }
+        }
+        // A shot entering during the step starts moving at its end; on top of one already
+        // moving it waits instead (as the adaptive method holds it at its entry time).
+        if entries {
+            hold_entries(members, pairs, (t, t_new), y, &mut work);
         }
         t = t_new;
         set_regions(members, t, y);
