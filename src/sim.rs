@@ -475,6 +475,9 @@ impl<T> std::ops::IndexMut<usize> for ById<T> {
     }
 }
 
+/// What a run tells its caller at once (see [`Simulation::with_notice`]).
+pub type Notice = Box<dyn Fn(&str) + Sync>;
+
 /// A run in progress.
 pub struct Simulation {
     physics: Physics,
@@ -512,6 +515,8 @@ pub struct Simulation {
     parallel_min_shots: usize,
     /// The event scheduler resolves lone contacts on its lean path (`events::binary`).
     lean_contacts: bool,
+    /// Told, during the run, what the caller should hear at once (see [`Self::with_notice`]).
+    notice: Option<Notice>,
 }
 
 /// Shots the independent scheduler flies at a time when it streams its records.
@@ -562,6 +567,14 @@ impl Simulation {
     /// asking for it on unsuitable physics are refused by [`Simulation::new`]).
     pub fn with_scheduler(mut self, scheduler: Scheduler) -> Self {
         self.scheduler = scheduler;
+        self
+    }
+
+    /// `notice` is told at once what changes the run's course: the event scheduler giving
+    /// up, after which the whole run starts again on windows (its progress from zero).
+    /// The same text is [`RunTail::scheduler_note`] at the end.
+    pub fn with_notice(mut self, notice: Notice) -> Self {
+        self.notice = Some(notice);
         self
     }
 
@@ -628,6 +641,7 @@ impl Simulation {
             scheduler: Scheduler::Auto,
             parallel_min_shots: PARALLEL_MIN_SHOTS,
             lean_contacts: true,
+            notice: None,
             physics,
             shots: ShotStore::from_vec(shots),
             feed: None,
@@ -730,7 +744,11 @@ impl Simulation {
                 Err(gave_up) => {
                     // The shots are as they were given: the same run on windows.
                     scheduler = "windows";
-                    scheduler_note = Some(gave_up.to_string());
+                    let note = gave_up.to_string();
+                    if let Some(notice) = &self.notice {
+                        notice(&note);
+                    }
+                    scheduler_note = Some(note);
                 }
             }
             self.shots = ShotStore::from_vec(shots);

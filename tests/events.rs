@@ -509,9 +509,19 @@ fn redone_on_windows(text: &str, why: &str) {
         "pile.toml",
     )
     .unwrap();
-    let sim = Simulation::new(&auto, &auto.effects()).unwrap();
+    let heard = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+    let ear = heard.clone();
+    let sim = Simulation::new(&auto, &auto.effects())
+        .unwrap()
+        .with_notice(Box::new(move |n| ear.lock().unwrap().push(n.to_string())));
     assert_eq!(sim.scheduler_in_use(), "events");
     let a = sim.run(&|_| {});
+    // The caller heard it when it happened (the CLI prints it above its progress bar,
+    // which starts again), in the words of the note.
+    assert_eq!(
+        *heard.lock().unwrap(),
+        vec![a.scheduler_note.clone().unwrap()]
+    );
     let w = simulate(&windows);
     println!("{:?}", a.scheduler_note);
     assert_eq!(a.scheduler, "windows");

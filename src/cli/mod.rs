@@ -115,6 +115,13 @@ fn run_scene(a: RunArgs) -> Result<()> {
         output::RunWriter::create(&a.out)?,
         crate::summary::SummaryBuilder::default(),
     );
+    // A run redone on windows starts its progress again: say why at that moment.
+    let live = bar.clone();
+    let sim = sim.with_notice(Box::new(move |note| {
+        live.println(format!(
+            "scheduler: {note}; the progress bar starts again for the run on windows"
+        ))
+    }));
     let started = Instant::now();
     let out = sim.run_into(&mut sink, &|f| bar.set_position((f * 1000.0) as u64));
     bar.finish_and_clear();
