@@ -1119,10 +1119,7 @@ impl Simulation {
                 continue;
             }
             let near_specimen = specimen && s.pos.z < reach[i];
-            let near_wall = wall.is_some_and(|w| {
-                w.geometry(&s.pos, s.body.radius)
-                    .is_some_and(|g| g.gap < reach[i] - s.body.radius)
-            });
+            let near_wall = wall.is_some_and(|w| self.may_reach_tube(s, &w.tube, reach[i], t0, t1));
             if near_specimen || near_wall || s.on_specimen || s.on_wall {
                 mark(i, kicked, &mut stack);
             }
@@ -1157,6 +1154,45 @@ impl Simulation {
         let speed = 1.5 * s.vel.norm();
         let a = self.physics.forces.acceleration_bound(&s.body, speed + 1.0);
         s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
+    }
+
+    /// Whether shot `s`, whose reach over the window `t0..t1` is `reach`
+    /// ([`Simulation::inflated_radius`]), may touch the nozzle tube in it. Beside the tube
+    /// the gap decides. A shot more than a radius beyond either end, where
+    /// [`Tube::geometry`](crate::contact::Tube::geometry) says `None`, may still reach
+    /// that end (the exit's lip or face) within the window: it does if its distance along
+    /// the axis can come within a radius of the end's plane under the acceleration bound,
+    /// and its clearance is within its reach (session 27: a shot rising onto a nozzle
+    /// body's face was not taken as kicked, and a neighbour taken as independent of it was
+    /// run through). Shots leaving the exit are not: their distance along the axis grows.
+    fn may_reach_tube(
+        &self,
+        s: &ShotState,
+        tube: &crate::contact::Tube,
+        reach: f64,
+        t0: f64,
+        t1: f64,
+    ) -> bool {
+        let r = s.body.radius;
+        if let Some(g) = tube.geometry(&s.pos, r) {
+            return g.gap < reach - r;
+        }
+        let span = (t1 - s.t_start.max(t0)).max(0.0);
+        let a = self
+            .physics
+            .forces
+            .acceleration_bound(&s.body, 1.5 * s.vel.norm() + 1.0);
+        let along = (s.pos - tube.exit).dot(&tube.axis);
+        let v_along = s.vel.dot(&tube.axis);
+        // Beyond the exit (downstream) the distance is `along`; beyond the inlet it is
+        // measured upstream. Its least value over the window is at one end of it.
+        let (dist, closing) = if along > 0.0 {
+            (along, -v_along)
+        } else {
+            (-tube.length - along, v_along)
+        };
+        let least = dist - (closing * span + 0.5 * a * span * span).max(0.0) - 1e-9;
+        least <= r && tube.clearance(&s.pos, r) < reach - r
     }
 
     /// Candidate pairs (global ids) for a window ending at `t1`: reach-inflated radii,

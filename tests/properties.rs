@@ -273,7 +273,8 @@ axial_spread_mm = {}
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases() / 3))]
 
-    /// Streams through random nozzles (tilted, narrow or wide, long or short), at random
+    /// Streams through random nozzles (tilted, narrow or wide, long or short, thin-walled
+    /// or with a body), at random
     /// feeds, restitutions, friction, turbulence and tolerances, with and without
     /// shot-shot contact: no shot stopped, every state finite, no impact faster than
     /// twice the jet's exit speed. Random scenes of this kind (a script running a few
@@ -297,13 +298,24 @@ proptest! {
         turbulence in prop_oneof![Just(0.0), 0.0..0.3f64],
         tolerance in prop_oneof![Just(1e-8), Just(1e-6), Just(1e-4)],
         pairs in any::<bool>(),
+        body in prop_oneof![Just(1.0), 1.2..4.0f64],
         seed in 0u64..1000,
     ) {
         // Shots of up to 45 % of the bore, one size or spread uniformly below it.
         let d_max = size * bore;
         let d_min = d_max * (1.0 - spread);
+        // A nozzle body (thin-walled when `body` is 1), its exit rim clear of the
+        // specimen with a tenth of the stand-off to spare.
+        let a = angle.to_radians();
+        let outer = (body * bore).min(1.8 * standoff * a.sin() / a.cos().max(1e-9));
+        let outer = if outer > bore {
+            format!("outer_diameter_mm = {outer}")
+        } else {
+            String::new()
+        };
         let text = format!(
             r#"{}
+{outer}
 angle_deg = {angle}
 azimuth_deg = {azimuth}
 [jet]

@@ -134,14 +134,19 @@ impl Scene {
         let in_bore = match &self.feed {
             Feed::Batch { .. } | Feed::Stream { .. } => true,
             Feed::Box { .. } | Feed::Bed { .. } => false,
-            Feed::List(list) => list.iter().any(|s| {
-                let z0 = self.nozzle.standoff;
-                let r = (s.position.x.powi(2) + s.position.y.powi(2)).sqrt();
-                s.position.z >= z0
-                    && s.position.z <= z0 + self.nozzle.length
-                    && r < 0.5 * self.nozzle.bore
-            }),
+            Feed::List(list) => {
+                // In the nozzle's frame (the axis may be tilted; session 27: before, a
+                // list shot in a tilted bore was taken for one outside it).
+                let tube = self.nozzle.tube();
+                list.iter().any(|s| {
+                    let along = (s.position - tube.exit).dot(&tube.axis);
+                    let inlet = -tube.length - crate::flow::jet::INLET_TOLERANCE;
+                    (inlet..=0.0).contains(&along)
+                        && tube.radial_distance(&s.position) < tube.bore_radius
+                })
+            }
         };
+        let body = self.nozzle.outer > self.nozzle.bore;
         let fr = &self.friction;
         let any_friction = fr.shot_specimen > 0.0 || fr.shot_shot > 0.0 || fr.shot_nozzle > 0.0;
         let turbulent = self.jet.turbulence_intensity > 0.0;
@@ -180,9 +185,12 @@ impl Scene {
                 },
             ),
             (
-                in_bore,
+                in_bore || body,
                 if in_bore {
                     "auto: shots start inside the bore".into()
+                } else if body {
+                    "auto: the nozzle has a body (nozzle.outer_diameter_mm) that shots can meet"
+                        .into()
                 } else {
                     "auto: no shot starts inside the bore".into()
                 },

@@ -103,6 +103,10 @@ pub struct NozzleFile {
     pub bore_mm: f64,
     /// Bore (acceleration) length `l_n`, mm (paper: 40).
     pub length_mm: f64,
+    /// Outer diameter of the nozzle body, mm: the tube's wall then has this thickness,
+    /// and a flat annular face at each end. Left out: a thin-walled tube (the paper gives
+    /// no outer diameter).
+    pub outer_diameter_mm: Option<f64>,
     /// Stand-off `l` from the nozzle exit to the specimen, mm (paper: 100).
     pub standoff_mm: f64,
     /// Material of the bore wall (library name).
@@ -120,6 +124,7 @@ impl Default for NozzleFile {
         NozzleFile {
             bore_mm: 6.0,
             length_mm: 40.0,
+            outer_diameter_mm: None,
             standoff_mm: 100.0,
             material: "table2-steel".into(),
             angle_deg: 90.0,

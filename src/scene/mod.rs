@@ -49,6 +49,8 @@ pub struct NozzleGeometry {
     pub bore: f64,
     /// Bore length `l_n`, m.
     pub length: f64,
+    /// Outer diameter of the nozzle body, m (`bore` for a thin-walled tube).
+    pub outer: f64,
     /// Stand-off `l` along the axis, m.
     pub standoff: f64,
     /// Angle between the axis and the specimen surface, rad (pi/2: normal).
@@ -108,6 +110,7 @@ impl NozzleGeometry {
             exit: self.exit(),
             axis: self.axis(),
             bore_radius: 0.5 * self.bore,
+            outer_radius: 0.5 * self.outer,
             length: self.length,
         }
     }

@@ -259,10 +259,21 @@ impl SceneFile {
                 "deg",
             )?
             .to_radians();
+        let bore_mm = c.range("nozzle.bore_mm", n.bore_mm, B::Ex(0.0), B::In(100.0), "mm")?;
+        let outer_mm = match n.outer_diameter_mm {
+            Some(v) => c.range(
+                "nozzle.outer_diameter_mm",
+                v,
+                B::In(bore_mm),
+                B::In(500.0),
+                "mm",
+            )?,
+            None => bore_mm,
+        };
         let nozzle = NozzleGeometry {
             angle,
             azimuth,
-            bore: c.range("nozzle.bore_mm", n.bore_mm, B::Ex(0.0), B::In(100.0), "mm")? * 1e-3,
+            bore: bore_mm * 1e-3,
             length: c.range(
                 "nozzle.length_mm",
                 n.length_mm,
@@ -270,6 +281,7 @@ impl SceneFile {
                 B::In(2000.0),
                 "mm",
             )? * 1e-3,
+            outer: outer_mm * 1e-3,
             standoff: c.range(
                 "nozzle.standoff_mm",
                 n.standoff_mm,
@@ -278,6 +290,28 @@ impl SceneFile {
                 "mm",
             )? * 1e-3,
         };
+        // The exit's rim is the nozzle's lowest point: it must stay above the specimen
+        // (before session 27 a tilted nozzle close to the part was run with its lip
+        // inside the specimen).
+        let rim = 0.5 * nozzle.outer * angle.cos();
+        if nozzle.standoff * angle.sin() - rim <= 0.0 {
+            let (what, key) = if n.outer_diameter_mm.is_some() {
+                ("outer radius", "outer_diameter_mm")
+            } else {
+                ("bore radius", "bore_mm")
+            };
+            return Err(c.invalid(
+                "nozzle.standoff_mm",
+                format!(
+                    "{} mm at angle_deg = {} puts the exit's rim ({what} {} mm) {} mm into the specimen: use standoff_mm > {} mm, a steeper angle_deg or a smaller {key}",
+                    num(n.standoff_mm),
+                    num(n.angle_deg),
+                    num(0.5 * outer_mm),
+                    num((rim - nozzle.standoff * angle.sin()) * 1e3),
+                    num(rim / angle.sin() * 1e3),
+                ),
+            ));
+        }
         let nozzle_material = c.material("nozzle.material", &n.material, &user)?;
 
         let j = &f.jet;
@@ -826,10 +860,15 @@ impl SceneFile {
                         return Err(c.invalid(
                             &format!("{k}.position_mm"),
                             format!(
-                                "the shot would start overlapping the nozzle tube by {} mm (its centre is {} mm from the nozzle axis, the bore radius is {} mm): place it inside the bore at most {} mm from the axis, or clear of the tube",
+                                "the shot would start overlapping the nozzle tube by {} mm (its centre is {} mm from the nozzle axis, the bore radius is {} mm{}): place it inside the bore at most {} mm from the axis, or clear of the tube",
                                 num(-g.gap * 1e3),
                                 num(nozzle.tube().radial_distance(&pos) * 1e3),
                                 num(0.5 * nozzle.bore * 1e3),
+                                if nozzle.outer > nozzle.bore {
+                                    format!(", the outer radius {} mm", num(0.5 * nozzle.outer * 1e3))
+                                } else {
+                                    String::new()
+                                },
                                 num((0.5 * nozzle.bore - 0.5 * d) * 1e3)
                             ),
                         ));
