@@ -96,11 +96,44 @@ impl Tube {
     /// [`Tube::geometry`] says `None`, the distance to the nearest end): for bounds on
     /// when a shot can reach the tube. Negative when overlapping.
     pub fn clearance(&self, pos: &Vec3, radius: f64) -> f64 {
+        self.nearest(pos, radius).map_or(-radius, |g| g.gap)
+    }
+
+    /// For a centre inside the bore (between the inlet and exit planes, nearer the axis
+    /// than the bore radius), the speed of `vel` across the axis: the fastest its
+    /// distance from the axis can grow. `None` elsewhere.
+    pub fn across_in_bore(&self, pos: &Vec3, vel: &Vec3) -> Option<f64> {
+        let rel = pos - self.exit;
+        let s = rel.dot(&self.axis);
+        let inlet = -self.length - crate::flow::jet::INLET_TOLERANCE;
+        let radial = rel - self.axis * s;
+        let inside = s <= 0.0 && s >= inlet && radial.norm_squared() < self.bore_radius.powi(2);
+        inside.then(|| (vel - self.axis * vel.dot(&self.axis)).norm())
+    }
+
+    /// How far `pos` lies beyond the nearer end of the tube along its axis (m; zero
+    /// between the inlet and exit planes), and the unit vector back towards that end's
+    /// plane. No part of the tube is nearer than that distance.
+    pub fn beyond_end(&self, pos: &Vec3) -> (f64, Vec3) {
+        let s = (pos - self.exit).dot(&self.axis);
+        let inlet = -self.length - crate::flow::jet::INLET_TOLERANCE;
+        if s > 0.0 {
+            (s, -self.axis)
+        } else if s < inlet {
+            (inlet - s, self.axis)
+        } else {
+            (0.0, Vec3::zeros())
+        }
+    }
+
+    /// [`Tube::geometry`] however far the shot is: the gap to the nearest point of the
+    /// tube and the direction to it (`None` only for a centre exactly on a lip or edge
+    /// circle).
+    pub fn nearest(&self, pos: &Vec3, radius: f64) -> Option<WallGeom> {
         let rel = pos - self.exit;
         let s = rel.dot(&self.axis);
         let inlet = -self.length - crate::flow::jet::INLET_TOLERANCE;
         self.section(pos, rel, s, inlet, radius)
-            .map_or(-radius, |g| g.gap)
     }
 
     /// [`Tube::geometry`] without the cut-off beyond the ends: `rel` is the shot's centre

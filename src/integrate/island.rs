@@ -679,6 +679,11 @@ impl Ctx<'_> {
             return f64::INFINITY;
         };
         let p = pos(y, i);
+        if what == WallEvent::Touch {
+            // Continuous beyond the ends too (`Tube::clearance`): a touch is located
+            // wherever the step started.
+            return w.tube.clearance(&p, m.body.radius);
+        }
         let Some(geo) = w.geometry(&p, m.body.radius) else {
             return f64::INFINITY;
         };
@@ -754,14 +759,18 @@ impl Ctx<'_> {
                 return WallEvent::None;
             }
             let (p, v) = (pos(y, i), vel(y, i));
-            let Some(geo) = self
-                .phys
-                .contacts
-                .wall
-                .as_ref()
-                .and_then(|w| w.geometry(&p, m.body.radius))
-            else {
+            let Some(w) = self.phys.contacts.wall.as_ref() else {
                 return WallEvent::None;
+            };
+            let Some(geo) = w.geometry(&p, m.body.radius) else {
+                // Beyond an end: a touch is still an event if the shot approaches the
+                // nearest part of the tube (`contact_cap` keeps its steps short enough).
+                return match w.tube.nearest(&p, m.body.radius) {
+                    Some(g) if g.gap > 0.0 && v.dot(&g.outward) >= RAMP_MIN_SPEED => {
+                        WallEvent::Touch
+                    }
+                    _ => WallEvent::None,
+                };
             };
             if m.on_wall {
                 let young = t - m.wall_onset <= 3.0 * m.wall_contact_time;
@@ -1169,7 +1178,25 @@ impl Ctx<'_> {
                     ));
                 } else if let Some(geo) = w.geometry(&p, m.body.radius) {
                     let k = w.law.stiffness(w.effective_radius(m.body.radius));
-                    cap = cap.min(approach(geo.gap, v.dot(&geo.outward), m.body.mass, k, cap));
+                    // Inside the bore the wall is concave: a shot moving across the
+                    // axis closes on it faster than its speed towards the nearest wall
+                    // point says (at first not at all, moving along a chord). Its
+                    // distance from the axis grows at most at its speed across the axis.
+                    let closing = w
+                        .tube
+                        .across_in_bore(&p, &v)
+                        .unwrap_or_else(|| v.dot(&geo.outward));
+                    cap = cap.min(approach(geo.gap, closing, m.body.mass, k, cap));
+                } else {
+                    // More than a radius beyond an end: the shot can touch the tube only
+                    // once it is within a radius of that end's plane. The tube is not
+                    // convex, so a step that starts and ends clear of it can still cross
+                    // a corner (the lip, or a body's face edge) on its way: until session
+                    // 28 such steps were not capped, and a shot crossed a corner unseen.
+                    let (beyond, towards) = w.tube.beyond_end(&p);
+                    let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                    let gap = beyond - m.body.radius;
+                    cap = cap.min(approach(gap, v.dot(&towards), m.body.mass, k, cap));
                 }
             }
         }
