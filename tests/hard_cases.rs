@@ -1524,13 +1524,12 @@ fn a_shot_crossing_the_bore_stays_inside_it() {
         (300.0, 2.0, 0.8),
         (300.0, 2.55, 0.2),
     ] {
-        let text = format!(
-            "duration_ms = {duration_ms}\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = {d_mm}\n[shots.feed]\ntype = \"list\"\n[[shots.feed.shots]]\nposition_mm = [0.0, {offset_mm}, 120.0]\nvelocity_m_s = [{speed}, 0.0, 0.0]\n[effects]\ndrag = false\nlateral_force = false\nspecimen_contact = false\nnozzle_wall_contact = true\n"
+        let out = lone_ballistic_shot(
+            d_mm,
+            [0.0, offset_mm, 120.0],
+            [speed, 0.0, 0.0],
+            duration_ms,
         );
-        let scene = Scene::from_toml(&text, "bore.toml").unwrap();
-        let out = Simulation::new(&scene, &scene.effects())
-            .unwrap()
-            .run(&|_| {});
         let s = &out.shots[0];
         let rho = s.pos.x.hypot(s.pos.y);
         let room = rb - 0.5e-3 * d_mm;
@@ -1561,14 +1560,7 @@ fn a_shot_crossing_the_bore_stays_inside_it() {
     let pv = Vec3::new(x, y, 0.0).dot(&v1);
     let chord = -2.0 * pv / v1.norm_squared();
     let t = x / speed + 0.5 * chord;
-    let text = format!(
-        "duration_ms = {}\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = 0.8\n[shots.feed]\ntype = \"list\"\n[[shots.feed.shots]]\nposition_mm = [0.0, 1.0, 120.0]\nvelocity_m_s = [{speed}, 0.0, 0.0]\n[effects]\ndrag = false\nlateral_force = false\nspecimen_contact = false\nnozzle_wall_contact = true\n",
-        t * 1e3
-    );
-    let scene = Scene::from_toml(&text, "bore.toml").unwrap();
-    let out = Simulation::new(&scene, &scene.effects())
-        .unwrap()
-        .run(&|_| {});
+    let out = lone_ballistic_shot(0.8, [0.0, 1.0, 120.0], [speed, 0.0, 0.0], t * 1e3);
     let s = &out.shots[0];
     let err = (s.vel - v1).norm() / speed;
     println!(
@@ -1577,4 +1569,54 @@ fn a_shot_crossing_the_bore_stays_inside_it() {
     );
     assert_eq!(s.wall_contacts, 1);
     assert!(err < 1e-2, "first bounce {:?}, rigid {:?}", s.vel, v1);
+}
+
+#[test]
+fn a_shot_entering_the_bore_past_a_lip_meets_the_far_wall() {
+    // Found by the property test "a lone shot meets the nozzle where its path does"
+    // (tests/properties.rs) after the first of session 28's fixes: ballistic shots that
+    // pass a lip into the bore (through the exit from below, through the inlet from
+    // above, just inside the lip) and cross the bore to its far wall. A step starting
+    // just beyond the end, inside the lip and moving away from it, was not capped at all,
+    // and crossed the bore and its far wall. Reference: the straight paths come within
+    // 0.04 um and 0.4 um of the wall's section (computed as in the property test), so
+    // each shot must meet the wall.
+    let cases = [
+        (
+            0.2,
+            [2.5246733722496195, -8.6022038208045, 90.5021019087244],
+            [-15.00158997287601, 48.132836476676744, 68.9229885729399],
+            0.46841503310556715,
+        ),
+        (
+            0.6640253604223179,
+            [-2.879857033688813, 3.3812257579395895, 143.04004041977856],
+            [57.225006810405, -28.28190030963206, -91.0922904541638],
+            0.35961143647151744,
+        ),
+    ];
+    for (d_mm, p, v, ms) in cases {
+        let out = lone_ballistic_shot(d_mm, p, v, ms);
+        let s = &out.shots[0];
+        println!(
+            "{d_mm} mm shot: {} wall contacts, ends at {:?}",
+            s.wall_contacts, s.pos
+        );
+        assert!(out.events.is_empty(), "{:?}", out.events);
+        assert!(s.wall_contacts >= 1, "{d_mm} mm shot passed the far wall");
+        // It rebounds inside the tube: never beyond the bore radius.
+        assert!(s.pos.x.hypot(s.pos.y) < 3e-3, "{:?}", s.pos);
+    }
+}
+
+/// Runs one ballistic shot of `d_mm` (no air, no gravity, no specimen) from `p` (mm) at
+/// `v` (m/s) for `ms` past the thin-walled default nozzle.
+fn lone_ballistic_shot(d_mm: f64, p: [f64; 3], v: [f64; 3], ms: f64) -> peenflow::sim::RunOutput {
+    let text = format!(
+        "duration_ms = {ms}\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = {d_mm}\n[shots.feed]\ntype = \"list\"\n[[shots.feed.shots]]\nposition_mm = {p:?}\nvelocity_m_s = {v:?}\n[effects]\ndrag = false\nlateral_force = false\nspecimen_contact = false\nnozzle_wall_contact = true\n"
+    );
+    let scene = Scene::from_toml(&text, "lone.toml").unwrap();
+    Simulation::new(&scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {})
 }

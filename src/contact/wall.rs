@@ -99,16 +99,16 @@ impl Tube {
         self.nearest(pos, radius).map_or(-radius, |g| g.gap)
     }
 
-    /// For a centre inside the bore (between the inlet and exit planes, nearer the axis
-    /// than the bore radius), the speed of `vel` across the axis: the fastest its
-    /// distance from the axis can grow. `None` elsewhere.
-    pub fn across_in_bore(&self, pos: &Vec3, vel: &Vec3) -> Option<f64> {
+    /// For a shot of `radius` centred nearer the axis than `bore radius - radius` (in the
+    /// bore, or beyond either end), how far its centre is from that distance, and the
+    /// speed of `vel` across the axis: no part of the tube is nearer the axis than the
+    /// bore radius, so the shot touches nothing before its distance from the axis has
+    /// grown by that much, at most at that speed. `None` elsewhere.
+    pub fn across_axis(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> Option<(f64, f64)> {
         let rel = pos - self.exit;
-        let s = rel.dot(&self.axis);
-        let inlet = -self.length - crate::flow::jet::INLET_TOLERANCE;
-        let radial = rel - self.axis * s;
-        let inside = s <= 0.0 && s >= inlet && radial.norm_squared() < self.bore_radius.powi(2);
-        inside.then(|| (vel - self.axis * vel.dot(&self.axis)).norm())
+        let rho = (rel - self.axis * rel.dot(&self.axis)).norm();
+        let gap = self.bore_radius - radius - rho;
+        (gap > 0.0).then(|| (gap, (vel - self.axis * vel.dot(&self.axis)).norm()))
     }
 
     /// How far `pos` lies beyond the nearer end of the tube along its axis (m; zero

@@ -1180,13 +1180,24 @@ impl Ctx<'_> {
                     let k = w.law.stiffness(w.effective_radius(m.body.radius));
                     // Inside the bore the wall is concave: a shot moving across the
                     // axis closes on it faster than its speed towards the nearest wall
-                    // point says (at first not at all, moving along a chord). Its
-                    // distance from the axis grows at most at its speed across the axis.
-                    let closing = w
-                        .tube
-                        .across_in_bore(&p, &v)
-                        .unwrap_or_else(|| v.dot(&geo.outward));
-                    cap = cap.min(approach(geo.gap, closing, m.body.mass, k, cap));
+                    // point says (at first not at all, moving along a chord), and a shot
+                    // just beyond an end, inside the lip, may enter the bore and cross
+                    // it within the step. A shot nearer the axis than `R_b - R` touches
+                    // nothing before its distance from the axis has grown that far, at
+                    // most at its speed across the axis; one nearer the axis than `R_b`
+                    // but not than that (passing a lip) nothing before it has covered
+                    // its gap, at most at its speed. Beside the tube or past a face the
+                    // tube lies inside a convex set (the solid cylinder of the outer
+                    // radius, cut at the end's plane) whose nearest point is the tube's,
+                    // and the speed towards that point bounds the approach.
+                    let (gap, closing) = match w.tube.across_axis(&p, &v, m.body.radius) {
+                        Some(bound) => bound,
+                        None if w.tube.radial_distance(&p) < w.tube.bore_radius => {
+                            (geo.gap, v.norm())
+                        }
+                        None => (geo.gap, v.dot(&geo.outward)),
+                    };
+                    cap = cap.min(approach(gap, closing, m.body.mass, k, cap));
                 } else {
                     // More than a radius beyond an end: the shot can touch the tube only
                     // once it is within a radius of that end's plane. The tube is not
