@@ -99,16 +99,12 @@ impl Tube {
         self.nearest(pos, radius).map_or(-radius, |g| g.gap)
     }
 
-    /// For a shot of `radius` centred nearer the axis than `bore radius - radius` (in the
-    /// bore, or beyond either end), how far its centre is from that distance, and the
-    /// speed of `vel` across the axis: no part of the tube is nearer the axis than the
-    /// bore radius, so the shot touches nothing before its distance from the axis has
-    /// grown by that much, at most at that speed. `None` elsewhere.
-    pub fn across_axis(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> Option<(f64, f64)> {
-        let rel = pos - self.exit;
-        let rho = (rel - self.axis * rel.dot(&self.axis)).norm();
-        let gap = self.bore_radius - radius - rho;
-        (gap > 0.0).then(|| (gap, (vel - self.axis * vel.dot(&self.axis)).norm()))
+    /// The speed of `vel` across the axis: the fastest a shot's distance from the axis
+    /// can change. No part of the tube is nearer the axis than the bore radius, so a shot
+    /// nearer the axis than `bore radius - radius` touches nothing before that distance
+    /// has grown that far.
+    pub fn speed_across_axis(&self, vel: &Vec3) -> f64 {
+        (vel - self.axis * vel.dot(&self.axis)).norm()
     }
 
     /// How far `pos` lies beyond the nearer end of the tube along its axis (m; zero

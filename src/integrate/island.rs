@@ -764,7 +764,11 @@ impl Ctx<'_> {
             };
             let Some(geo) = w.geometry(&p, m.body.radius) else {
                 // Beyond an end: a touch is still an event if the shot approaches the
-                // nearest part of the tube (`contact_cap` keeps its steps short enough).
+                // nearest part of the tube (`contact_cap` keeps its steps short enough);
+                // moving away from the end's plane, it cannot touch it in this step.
+                if v.dot(&w.tube.beyond_end(&p).1) <= 0.0 {
+                    return WallEvent::None;
+                }
                 return match w.tube.nearest(&p, m.body.radius) {
                     Some(g) if g.gap > 0.0 && v.dot(&g.outward) >= RAMP_MIN_SPEED => {
                         WallEvent::Touch
@@ -1190,12 +1194,13 @@ impl Ctx<'_> {
                     // tube lies inside a convex set (the solid cylinder of the outer
                     // radius, cut at the end's plane) whose nearest point is the tube's,
                     // and the speed towards that point bounds the approach.
-                    let (gap, closing) = match w.tube.across_axis(&p, &v, m.body.radius) {
-                        Some(bound) => bound,
-                        None if w.tube.radial_distance(&p) < w.tube.bore_radius => {
-                            (geo.gap, v.norm())
-                        }
-                        None => (geo.gap, v.dot(&geo.outward)),
+                    let (rho, rb) = (w.tube.radial_distance(&p), w.tube.bore_radius);
+                    let (gap, closing) = if rho < rb - m.body.radius {
+                        (rb - m.body.radius - rho, w.tube.speed_across_axis(&v))
+                    } else if rho < rb {
+                        (geo.gap, v.norm())
+                    } else {
+                        (geo.gap, v.dot(&geo.outward))
                     };
                     cap = cap.min(approach(gap, closing, m.body.mass, k, cap));
                 } else {
@@ -1205,9 +1210,12 @@ impl Ctx<'_> {
                     // a corner (the lip, or a body's face edge) on its way: until session
                     // 28 such steps were not capped, and a shot crossed a corner unseen.
                     let (beyond, towards) = w.tube.beyond_end(&p);
-                    let k = w.law.stiffness(w.effective_radius(m.body.radius));
-                    let gap = beyond - m.body.radius;
-                    cap = cap.min(approach(gap, v.dot(&towards), m.body.mass, k, cap));
+                    let closing = v.dot(&towards);
+                    if closing > 0.0 {
+                        let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                        let gap = beyond - m.body.radius;
+                        cap = cap.min(approach(gap, closing, m.body.mass, k, cap));
+                    }
                 }
             }
         }
