@@ -150,6 +150,8 @@ pub struct StreamFeed {
     poisson: bool,
     t_clear: f64,
     inlet: Vec3,
+    /// Unit vector along the nozzle axis, downstream: shots enter moving along it.
+    axis: Vec3,
     e1: Vec3,
     e2: Vec3,
     bore: f64,
@@ -209,6 +211,7 @@ impl StreamFeed {
             poisson,
             t_clear: (2.0 * d_max / a0.max(1e-9)).sqrt(),
             inlet: scene.nozzle.inlet(),
+            axis: scene.nozzle.axis(),
             e1,
             e2,
             bore: scene.nozzle.bore,
@@ -296,10 +299,12 @@ impl StreamFeed {
             radius: r,
             mass: sphere_mass(d, self.density),
         };
+        // Along the bore (until session 29 straight down, whatever the nozzle's tilt:
+        // at 45 degrees a shot entered moving at 45 degrees to the bore).
         let shot = ShotState::new(
             ShotId(self.id),
             p,
-            Vec3::new(0.0, 0.0, -self.entry_speed),
+            self.axis * self.entry_speed,
             body,
             self.t,
         );

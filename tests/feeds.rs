@@ -43,6 +43,42 @@ duration_ms = 2.0
     );
 }
 
+/// Stream shots enter the bore moving along it, whatever the nozzle's tilt: the axis
+/// at `angle_deg` from the specimen plane, travelling towards `azimuth_deg` (unit vector
+/// (cos az cos a, sin az cos a, -sin a)), at `entry_speed_m_s`, from points of the inlet
+/// plane (perpendicular to the axis, `standoff + length` up the axis from its foot).
+/// Until session 29 they entered moving straight down: at 45 degrees, at 45 degrees to
+/// the bore, and in vacuum they fell out of its side.
+#[test]
+fn stream_shots_enter_along_a_tilted_bore() {
+    for (angle, azimuth) in [(90.0f64, 0.0f64), (45.0, 0.0), (30.0, 120.0), (60.0, -75.0)] {
+        let text = format!(
+            "[nozzle]\nangle_deg = {angle}\nazimuth_deg = {azimuth}\nstandoff_mm = 80.0\nlength_mm = 30.0\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 20000.0\nduration_ms = 1.0\nentry_speed_m_s = 7.0\n"
+        );
+        let scene = Scene::from_toml(&text, "tilted.toml").unwrap();
+        let (a, az) = (angle.to_radians(), azimuth.to_radians());
+        let axis = peenflow::Vec3::new(az.cos() * a.cos(), az.sin() * a.cos(), -a.sin());
+        let inlet = -axis * 0.110;
+        let shots = peenflow::feed::initial_shots(&scene).unwrap();
+        assert!(shots.len() > 5, "{}", shots.len());
+        for s in &shots {
+            assert!(
+                (s.vel - axis * 7.0).norm() < 1e-12,
+                "{angle}/{azimuth}: {:?}",
+                s.vel
+            );
+            // In the inlet plane, inside the bore.
+            let off = s.pos - inlet;
+            assert!(
+                off.dot(&axis).abs() < 1e-12,
+                "{angle}/{azimuth}: {:?}",
+                s.pos
+            );
+            assert!(off.norm() <= 3e-3 - s.body.radius + 1e-12);
+        }
+    }
+}
+
 #[test]
 fn regular_arrivals_deliver_rate_times_duration_shots_at_k_over_rate() {
     // (shots/s, feeding ms): rate x duration is a whole number of shots, the last one
