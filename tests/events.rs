@@ -614,3 +614,43 @@ fn the_give_up_suggests_a_fiftieth_of_the_fastest_contact_time_as_fixed_step() {
     );
     assert!(both < specimen);
 }
+
+/// A stream in vacuum (no air, no nozzle wall contact) runs on the event scheduler on
+/// auto: a stream's shots wait at their entry points one after the other, which is not
+/// a pile. Until session 29 `auto` took them as shots starting in contact and ran the
+/// window scheduler, about ten times slower on a 10,000-shot stream (docs/performance.md).
+/// Fed through a nozzle tilted at 45 degrees, slowly enough that a rebound is gone
+/// before the next shot lands, the shots never meet, and the event scheduler's
+/// impacts are the window scheduler's, shot by shot, within the tolerance's reach.
+#[test]
+fn a_stream_in_vacuum_runs_on_the_event_scheduler() {
+    let text = "duration_ms = 40.0\n[nozzle]\nangle_deg = 45.0\nstandoff_mm = 20.0\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 1000.0\nentry_speed_m_s = 20.0\narrivals = \"regular\"\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
+    let auto = Scene::from_toml(text, "vacuum_stream.toml").unwrap();
+    let sim = Simulation::new(&auto, &auto.effects()).unwrap();
+    assert_eq!(sim.scheduler_in_use(), "events");
+    let a = sim.run(&|_| {});
+    assert_eq!(a.scheduler, "events");
+    assert!(a.scheduler_note.is_none(), "{:?}", a.scheduler_note);
+    let windows = Scene::from_toml(
+        &format!("{text}[integrator]\nscheduler = \"windows\"\n"),
+        "vacuum_stream.toml",
+    )
+    .unwrap();
+    let w = simulate(&windows);
+    assert_eq!(w.scheduler, "windows");
+    assert!(
+        a.shots.iter().chain(&w.shots).all(|s| s.collisions == 0),
+        "the shots must not meet for this test"
+    );
+    assert!(a.impacts.len() >= 30, "{} impacts", a.impacts.len());
+    assert_eq!(a.impacts.len(), w.impacts.len());
+    for (x, y) in a.impacts.iter().zip(&w.impacts) {
+        assert_eq!(x.shot, y.shot);
+        assert!(rel(x.speed_m_s, y.speed_m_s) < 1e-6, "{x:?}\n{y:?}");
+        assert!((x.time_s - y.time_s).abs() < 1e-9, "{x:?}\n{y:?}");
+        assert!(
+            (x.x_m - y.x_m).abs() + (x.y_m - y.y_m).abs() < 1e-8,
+            "{x:?}\n{y:?}"
+        );
+    }
+}

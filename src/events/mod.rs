@@ -61,9 +61,9 @@
 //! A cluster still in contact after its chunk (a shot resting on the specimen, a
 //! persistent clump) continues with chunks doubling up to 0.1 ms; members not in contact
 //! are released to free flight. A chunk still unverified after `MAX_REDOS` redos, or
-//! integrator steps that carry more than `sim::MAX_ISLAND` shots each on average (a pile
-//! integrated as one island), make the scheduler give up ([`GaveUp`]); the caller redoes
-//! the run on windows. Processing is sequential and ordered by (time, kind,
+//! latest integrator steps that carry more than `sim::MAX_ISLAND` shots each on average
+//! (a pile integrated as one island; `PileWatch`), make the scheduler give up
+//! ([`GaveUp`]); the caller redoes the run on windows. Processing is sequential and ordered by (time, kind,
 //! shots): results do not depend on the thread count. The engine works on the shots in
 //! Z-curve order of where they start (memory locality; `spatial_order`) and keys pairs
 //! by shot id, never by its own indices.
@@ -93,9 +93,18 @@ const NONE: u32 = u32::MAX;
 const MAX_CHUNK: f64 = 1e-4;
 /// Redos of one cluster chunk before the scheduler gives up (`Engine::gave_up`).
 const MAX_REDOS: u32 = 8;
-/// Integrator steps the scheduler takes before it judges its islands' size (below, the
-/// first clusters' sizes say little about the run).
-const PILE_WARMUP_STEPS: u64 = 10_000;
+/// The scheduler judges its islands' size over its latest integrator steps, in blocks of
+/// this many (nothing before the first block ends: the first clusters' sizes say little
+/// about the run).
+const PILE_BLOCK_STEPS: u64 = 10_000;
+/// Blocks the judgement spans: the whole run until there are this many, then the latest
+/// `PILE_BLOCKS - 1` whole blocks and the one in progress. Long enough that a burst of
+/// large clusters the scheduler gets through passes (55.7 shots per step over one block,
+/// 27.8 over four, in a scene it runs in 1.6 s against 2.7 s on windows), short enough
+/// that a pile forming late is seen while it forms, not once the whole run's average
+/// catches up (session 29: a 3,000-shot pile gave up at 0.305 ms on the whole run's
+/// average, 0.26 ms on the latest blocks').
+const PILE_BLOCKS: usize = 5;
 /// Free paths closer than contact distance times (1 + this) join a cluster.
 const SLACK: f64 = 0.1;
 /// Cluster members whose free paths come closer than contact distance times (1 + this)
@@ -395,9 +404,12 @@ struct Engine<'a> {
     /// outran the speed bound, or a shot outside reached a member): the run stops, as
     /// accepting it would leave a contact to be found late, up to a whole overlap deep
     /// (random dense, frictional packs found this in session 23). Set too when its
-    /// integrator steps have carried more than `sim::MAX_ISLAND` shots each on average
-    /// (a pile integrated as one island: windows split it; session 24).
+    /// latest integrator steps have carried more than `sim::MAX_ISLAND` shots each on
+    /// average (a pile integrated as one island: windows split it; session 24, the
+    /// latest steps since session 29).
     gave_up: Option<GaveUp>,
+    /// Judges the islands' size over the latest integrator steps.
+    pile_watch: PileWatch,
 }
 
 /// Why the event scheduler stopped a run before its end (see `Engine::gave_up`): the
@@ -414,14 +426,49 @@ pub struct GaveUp {
     pub fixed_step: f64,
 }
 
+/// Shots carried per integrator step over the latest steps: the whole run until it has
+/// `PILE_BLOCKS` blocks of `PILE_BLOCK_STEPS` steps, then the latest `PILE_BLOCKS - 1`
+/// whole blocks and the one in progress.
+#[derive(Debug, Default)]
+struct PileWatch {
+    /// The work counters (accepted steps, shot-steps) where each of the latest
+    /// `PILE_BLOCKS` blocks began, oldest first.
+    marks: [(u64, u64); PILE_BLOCKS],
+}
+
+impl PileWatch {
+    /// Takes the run's counters so far (accepted integrator steps and shot-steps, both
+    /// counted from the run's start); the reason to give up once the latest steps carry
+    /// more than `sim::MAX_ISLAND` shots each on average (nothing before the first block
+    /// ends).
+    fn judge(&mut self, steps_accepted: u64, shot_steps: u64) -> Option<GiveUpReason> {
+        if steps_accepted - self.marks[PILE_BLOCKS - 1].0 >= PILE_BLOCK_STEPS {
+            self.marks.rotate_left(1);
+            self.marks[PILE_BLOCKS - 1] = (steps_accepted, shot_steps);
+        }
+        let (from_steps, from_shot_steps) = self.marks[0];
+        let (steps, carried) = (steps_accepted - from_steps, shot_steps - from_shot_steps);
+        (steps_accepted >= PILE_BLOCK_STEPS && carried > crate::sim::MAX_ISLAND as u64 * steps)
+            .then(|| GiveUpReason::Islands {
+                mean: carried as f64 / steps as f64,
+                steps,
+            })
+    }
+}
+
 /// Why the event scheduler gave up.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GiveUpReason {
     /// A cluster chunk was still unverified after `MAX_REDOS` redos.
     Unverified,
-    /// Its integrator steps carried this many shots each on average, more than
-    /// `sim::MAX_ISLAND`.
-    Islands(f64),
+    /// Its latest integrator steps (`steps` of them, at least `PILE_BLOCK_STEPS`)
+    /// carried `mean` shots each on average, more than `sim::MAX_ISLAND`.
+    Islands {
+        /// Shots per integrator step.
+        mean: f64,
+        /// Integrator steps the mean is taken over.
+        steps: u64,
+    },
 }
 
 impl std::fmt::Display for GaveUp {
@@ -431,8 +478,8 @@ impl std::fmt::Display for GaveUp {
                 "a cluster of {} shots kept being reached by shots from outside it",
                 self.members
             ),
-            GiveUpReason::Islands(mean) => format!(
-                "its clusters (the last of {} shots) carried {mean:.1} shots per integrator step on average, more than the {} the window scheduler keeps its islands to",
+            GiveUpReason::Islands { mean, steps } => format!(
+                "its clusters (the last of {} shots) carried {mean:.1} shots per integrator step on average over its latest {steps} steps, more than the {} the window scheduler keeps its islands to",
                 self.members,
                 crate::sim::MAX_ISLAND
             ),
@@ -627,6 +674,7 @@ impl<'a> Engine<'a> {
             cells: CellList::default(),
             buf: Vec::new(),
             gave_up: None,
+            pile_watch: PileWatch::default(),
             shots,
         }
     }
@@ -1140,12 +1188,11 @@ impl<'a> Engine<'a> {
             // `MAX_ISLAND` shots, and beat this scheduler by far once its steps carry more
             // than that on average (a 3,000-shot pile: 217 s against 21 s, session 24).
             let w = &self.out.work;
-            let carried = crate::sim::MAX_ISLAND as u64 * w.steps_accepted;
-            if w.steps_accepted >= PILE_WARMUP_STEPS && w.shot_steps > carried {
+            if let Some(why) = self.pile_watch.judge(w.steps_accepted, w.shot_steps) {
                 self.gave_up = Some(GaveUp {
                     time_s: s,
                     members,
-                    why: GiveUpReason::Islands(w.shot_steps as f64 / w.steps_accepted as f64),
+                    why,
                     fixed_step: self.fixed_step,
                 });
             }
@@ -1919,6 +1966,68 @@ impl<'a> Engine<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Feeds `watch` a run in chunks of `chunk` integrator steps, the i-th step carrying
+    /// `shots(i)` shots; the step count at which it gives up, if it does.
+    fn watch_run(
+        watch: &mut PileWatch,
+        from: u64,
+        steps: u64,
+        chunk: u64,
+        carried_before: u64,
+        shots: impl Fn(u64) -> u64,
+    ) -> (Option<(u64, GiveUpReason)>, u64) {
+        let mut carried = carried_before;
+        let mut i = from;
+        while i < from + steps {
+            let n = chunk.min(from + steps - i);
+            carried += (i..i + n).map(&shots).sum::<u64>();
+            i += n;
+            if let Some(why) = watch.judge(i, carried) {
+                return (Some((i, why)), carried);
+            }
+        }
+        (None, carried)
+    }
+
+    /// A pile forming late is seen while it forms: after 200,000 steps of lone contacts
+    /// (one shot each), 60 shots per step from then on give up once they are more than
+    /// (32 - 1) / 59 of the latest four to five blocks, where the whole run's average
+    /// (what the rule took until session 29) would still read 1 + 59 x 50,000 / 250,000 =
+    /// 12.8 after 50,000 such steps. A burst of one block at 60 shots per step amid
+    /// steps of two does not: over the latest four blocks or more it reads at most
+    /// (60 + 3 x 2) / 4 = 16.5. Nothing is judged before the first block ends.
+    #[test]
+    fn the_pile_watch_judges_the_latest_steps() {
+        let max = crate::sim::MAX_ISLAND as u64;
+        let mut w = PileWatch::default();
+        // 100 steps at 100 shots: not judged yet.
+        assert!(w.judge(100, 100 * 100).is_none());
+        let mut w = PileWatch::default();
+        let (gave, carried) = watch_run(&mut w, 0, 200_000, 137, 0, |_| 1);
+        assert!(gave.is_none());
+        let (gave, _) = watch_run(&mut w, 200_000, 100_000, 137, carried, |_| 60);
+        let (at, why) = gave.expect("a pile forming late must be seen");
+        let GiveUpReason::Islands { mean, steps } = why else {
+            panic!("{why:?}")
+        };
+        assert!(mean > max as f64 && mean <= 60.0, "{mean}");
+        assert!(
+            steps >= (PILE_BLOCKS as u64 - 1) * PILE_BLOCK_STEPS,
+            "{steps}"
+        );
+        // The latest steps span at most five blocks, each overshooting by at most a
+        // chunk: (31 / 59) x 5 x 10,137 = 26,632 steps of pile.
+        let n = at - 200_000;
+        assert!(n <= 26_632 + 137, "gave up {n} steps into the pile");
+        let whole_run = (200_000 + 60 * n) as f64 / (200_000 + n) as f64;
+        assert!(whole_run < max as f64, "{whole_run}");
+
+        let mut w = PileWatch::default();
+        let burst = |i: u64| if (60_000..70_000).contains(&i) { 60 } else { 2 };
+        let (gave, _) = watch_run(&mut w, 0, 200_000, 137, 0, burst);
+        assert!(gave.is_none(), "{gave:?}");
+    }
 
     fn straight(p0: Vec3, v: Vec3, times: &[f64]) -> Vec<(f64, Vec3)> {
         times.iter().map(|&t| (t, p0 + v * t)).collect()
