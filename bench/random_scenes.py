@@ -7,7 +7,7 @@ batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
-                                   [--dense] [--verlet]
+                                   [--dense] [--vacuum] [--verlet]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -17,6 +17,9 @@ restitutions, friction and tolerances. With --dense (since session 28): nozzle s
 fed at 100,000 to 1,000,000 shots/s (the inlet throttles the fastest) through bores of 4-12 mm
 by 10-60 mm onto a part 1-40 mm below the exit rim, a body in half of them, shot-shot and
 nozzle-wall contact on: rebounds strike the body's face and meet the shots behind them.
+With --vacuum (since session 29): streams through tilted nozzles without air or nozzle
+wall, 10,000 to 400,000 shots/s entering at 2-60 m/s, until the last shot lands (the
+event scheduler's entries, held entries, rebounds falling back, heaps).
 With --verlet: the same scenes on the fixed-step
 method (`method = "verlet"`) instead of a tolerance, at a step of 1/20 to 1/100 of the
 shortest Hertz contact time the scene can have, without turbulence (refused with it),
@@ -55,6 +58,18 @@ def contact_tables(r, restitutions, frictions, mu_max):
     return lines
 
 
+def nozzle_table(bore, length, standoff, angle, azimuth):
+    """The [nozzle] table's lines (a tilted nozzle, no body)."""
+    return [
+        "[nozzle]",
+        f"bore_mm = {bore:.3f}",
+        f"length_mm = {length:.2f}",
+        f"standoff_mm = {standoff:.2f}",
+        f"angle_deg = {angle:.2f}",
+        f"azimuth_deg = {azimuth:.1f}",
+    ]
+
+
 def scene(r):
     bore = r.uniform(3, 12)
     lines = [
@@ -67,14 +82,7 @@ def scene(r):
     length = r.uniform(10, 150)
     standoff = r.uniform(15, 200)
     angle = r.choice([90, 90, r.uniform(30, 90)])
-    lines += [
-        "[nozzle]",
-        f"bore_mm = {bore:.3f}",
-        f"length_mm = {length:.2f}",
-        f"standoff_mm = {standoff:.2f}",
-        f"angle_deg = {angle:.2f}",
-        f"azimuth_deg = {r.uniform(-180, 180):.1f}",
-    ]
+    lines += nozzle_table(bore, length, standoff, angle, r.uniform(-180, 180))
     # A nozzle body in a third of the scenes (since session 27), its exit rim clear of
     # the specimen. Drawn from a generator of its own, so that the other draws (and the
     # scenes of the seeds quoted in the docs) stay as they were.
@@ -221,6 +229,43 @@ def dense_scene(r):
     return "\n".join(lines) + "\n"
 
 
+def vacuum_scene(r):
+    """A stream through a nozzle without air (since session 29, when such streams started
+    running on the event scheduler: its entries, shots held at a crowded inlet, rebounds
+    rising and falling back, heaps forming under the nozzle and the give-up on them):
+    tilted nozzles, feeds of 10,000 to 400,000 shots/s entering at 2-60 m/s, runs long
+    enough for the last shot fed to land and rebound, no nozzle wall (the event
+    scheduler's condition)."""
+    bore = r.uniform(3, 12)
+    angle = r.choice([90, 90, r.uniform(30, 90)])
+    d = r.uniform(0.2, min(1.5, 0.45 * bore))
+    feed_ms = r.choice([1, 2, 5])
+    length = r.uniform(5, 100)
+    standoff = r.uniform(5, 100)
+    gravity = r.choice([0, 9.81, 9.81, 100])
+    entry = r.choice([2, 5, 20, 60])
+    # The slowest shot's flight to the specimen (the axis' length to its foot), ms.
+    fall = 1e3 * (length + standoff) * 1e-3 / entry
+    lines = [
+        f"seed = {r.randrange(1000)}",
+        f"duration_ms = {feed_ms + 1.2 * fall + r.choice([1, 3, 10]):.2f}",
+        f"gravity_m_s2 = {gravity}",
+        *nozzle_table(bore, length, standoff, angle, r.uniform(-180, 180)),
+        "[shots]",
+        f"diameter_mm = {d:.3f}",
+        "[shots.feed]",
+        'type = "stream"',
+        f"rate_per_s = {r.choice([10000, 40000, 100000, 400000])}",
+        f"duration_ms = {feed_ms}",
+        f"entry_speed_m_s = {entry}",
+        f'arrivals = "{r.choice(["poisson", "regular"])}"',
+    ]
+    lines += contact_tables(r, [0.1, 0.3, 0.7, 0.9, 1.0], [0, 0.1, 0.3, 0.8], 2)
+    lines += ["[integrator]", f"tolerance = {r.choice([1e-8, 1e-6, 1e-5, 1e-4, 1e-3])}"]
+    lines += ["[effects]", "drag = false", "lateral_force = false", "nozzle_wall_contact = false"]
+    return "\n".join(lines) + "\n"
+
+
 def hertz_time(d_mm, v):
     """Hertz contact time (s) of two steel shots of diameter `d_mm` meeting head-on at `v`
     (Johnson, Contact Mechanics, 11.2; E 210 GPa, nu 0.3, 7850 kg/m^3)."""
@@ -305,6 +350,8 @@ def main():
                     help="boxes of shots thrown at the specimen without air (the event scheduler)")
     ap.add_argument("--dense", action="store_true",
                     help="dense nozzle streams at short stand-offs, bodies in half of them")
+    ap.add_argument("--vacuum", action="store_true",
+                    help="streams through a nozzle without air (the event scheduler's entries)")
     ap.add_argument("--verlet", action="store_true",
                     help="the scenes on the fixed-step method instead of a tolerance")
     a = ap.parse_args()
@@ -313,7 +360,14 @@ def main():
     for k in range(a.count):
         r = random.Random(a.seed * 1_000_003 + k)
         path = os.path.join(a.out, f"scene_{a.seed}_{k}.toml")
-        text = ballistic_scene(r) if a.ballistic else dense_scene(r) if a.dense else scene(r)
+        if a.ballistic:
+            text = ballistic_scene(r)
+        elif a.dense:
+            text = dense_scene(r)
+        elif a.vacuum:
+            text = vacuum_scene(r)
+        else:
+            text = scene(r)
         if a.verlet:
             text = fixed_step(r, text, a.ballistic)
         with open(path, "w") as f:

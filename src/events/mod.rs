@@ -789,7 +789,7 @@ impl<'a> Engine<'a> {
                 Kind::Cross => {
                     if free_valid(self, a, ev.va) {
                         self.out.work.flight_events += 1;
-                        self.cross(a, b);
+                        self.cross(a, b, ev.t);
                     }
                 }
                 Kind::Floor => {
@@ -887,7 +887,7 @@ impl<'a> Engine<'a> {
         if t + leave <= self.end {
             self.push(t + leave, Kind::Leave, i, i);
         }
-        self.schedule_cross(i);
+        self.schedule_cross(i, t);
     }
 
     fn predict_pair(&mut self, i: usize, j: usize) {
@@ -916,10 +916,16 @@ impl<'a> Engine<'a> {
     }
 
     /// The next cell face free shot `i` crosses (event `b` = axis * 2 + upwards).
-    fn schedule_cross(&mut self, i: usize) {
+    ///
+    /// Looked for from the shot's state at `now` (its flight's start, or the crossing
+    /// just made), not from its flight's start: a shot rising through a face and falling
+    /// back through it crosses that face twice in one flight, and from the start the
+    /// first crossing up, already past, was found again and again (until session 29 the
+    /// run never ended: a shot thrown up 1 m/s under gravity, or one rebounding slowly).
+    fn schedule_cross(&mut self, i: usize, now: f64) {
         let c = self.grid.at[i];
-        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
-        let (p, v) = (s.pos, s.vel);
+        let (p, v) = self.state_at(i, now);
+        let t = now;
         let mut best = (f64::INFINITY, 0usize);
         for axis in 0..3 {
             let (lo, hi) = self.grid.faces(&c, axis);
@@ -952,7 +958,7 @@ impl<'a> Engine<'a> {
         }
     }
 
-    fn cross(&mut self, i: usize, code: usize) {
+    fn cross(&mut self, i: usize, code: usize, now: f64) {
         let (axis, up) = (code / 2, code % 2 == 1);
         let mut c = self.grid.at[i];
         c[axis] = if up { c[axis] + 1 } else { c[axis] - 1 };
@@ -979,7 +985,7 @@ impl<'a> Engine<'a> {
             }
             self.buf = nb;
         }
-        self.schedule_cross(i);
+        self.schedule_cross(i, now);
     }
 
     /// Opens a cluster for a touch predicted at `t_on` between the free shots `who` (one
