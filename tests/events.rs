@@ -622,13 +622,18 @@ fn the_give_up_suggests_a_fiftieth_of_the_fastest_contact_time_as_fixed_step() {
 /// Fed through a nozzle tilted at 45 degrees, slowly enough that a rebound is gone
 /// before the next shot lands, the shots never meet, and the event scheduler's
 /// impacts are the window scheduler's, shot by shot, within the tolerance's reach.
+/// The simulation of scene `text`, which `auto` must run on the event scheduler.
+fn on_events(text: &str, name: &str) -> Simulation {
+    let scene = Scene::from_toml(text, name).unwrap();
+    let sim = Simulation::new(&scene, &scene.effects()).unwrap();
+    assert_eq!(sim.scheduler_in_use(), "events");
+    sim
+}
+
 #[test]
 fn a_stream_in_vacuum_runs_on_the_event_scheduler() {
     let text = "duration_ms = 40.0\n[nozzle]\nangle_deg = 45.0\nstandoff_mm = 20.0\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 1000.0\nentry_speed_m_s = 20.0\narrivals = \"regular\"\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
-    let auto = Scene::from_toml(text, "vacuum_stream.toml").unwrap();
-    let sim = Simulation::new(&auto, &auto.effects()).unwrap();
-    assert_eq!(sim.scheduler_in_use(), "events");
-    let a = sim.run(&|_| {});
+    let a = on_events(text, "vacuum_stream.toml").run(&|_| {});
     assert_eq!(a.scheduler, "events");
     assert!(a.scheduler_note.is_none(), "{:?}", a.scheduler_note);
     let windows = Scene::from_toml(
@@ -666,14 +671,12 @@ fn a_stream_in_vacuum_runs_on_the_event_scheduler() {
 #[test]
 fn a_shot_thrown_up_falls_back_through_the_cells_it_rose_through() {
     let text = "duration_ms = 500.0\ngravity_m_s2 = 9.81\n[shots]\ndiameter_mm = 0.8\n[shots.feed]\ntype = \"list\"\n[[shots.feed.shots]]\nposition_mm = [0.0, 0.0, 5.0]\nvelocity_m_s = [0.0, 0.0, 1.0]\n[[shots.feed.shots]]\nposition_mm = [20.0, 0.0, 30.0]\n[[shots.feed.shots]]\nposition_mm = [0.0, 20.0, 60.0]\nvelocity_m_s = [0.0, 0.0, 0.3]\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
-    let scene = Scene::from_toml(text, "thrown_up.toml").unwrap();
-    let sim = Simulation::new(&scene, &scene.effects()).unwrap();
-    assert_eq!(sim.scheduler_in_use(), "events");
+    on_events(text, "thrown_up.toml");
+    // (A simulation does not cross threads: the watchdog's thread builds its own.)
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let scene = Scene::from_toml(text, "thrown_up.toml").unwrap();
-        let sim = Simulation::new(&scene, &scene.effects()).unwrap();
-        tx.send(sim.run(&|_| {})).unwrap()
+        tx.send(on_events(text, "thrown_up.toml").run(&|_| {}))
+            .unwrap()
     });
     let out = rx
         .recv_timeout(std::time::Duration::from_secs(300))

@@ -925,7 +925,6 @@ impl<'a> Engine<'a> {
     fn schedule_cross(&mut self, i: usize, now: f64) {
         let c = self.grid.at[i];
         let (p, v) = self.state_at(i, now);
-        let t = now;
         let mut best = (f64::INFINITY, 0usize);
         for axis in 0..3 {
             let (lo, hi) = self.grid.faces(&c, axis);
@@ -953,8 +952,8 @@ impl<'a> Engine<'a> {
                 best = (tau, 2 * axis + 1);
             }
         }
-        if t + best.0 <= self.end {
-            self.push(t + best.0, Kind::Cross, i, best.1);
+        if now + best.0 <= self.end {
+            self.push(now + best.0, Kind::Cross, i, best.1);
         }
     }
 
