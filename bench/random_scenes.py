@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Runs peenflow on random scenes inside the documented ranges and reports every run that
 goes wrong: a panic, a time-out, a shot stopped at run time (exit 1, summary.json
-`events`), an impact faster than 300 m/s, or a shot ending with its centre below the
-specimen's surface. Refusals (exit 2 with one message, e.g. a
+`events`), an impact faster than 300 m/s, a shot ending with its centre below the
+specimen's surface, or, without air (--ballistic, --vacuum), shots ending with more
+energy than they can have started with. Refusals (exit 2 with one message, e.g. a
 batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
@@ -302,6 +303,43 @@ def fixed_step(r, text, ballistic):
     return "\n".join(lines) + "\n"
 
 
+def energy_bound(text):
+    """For a scene without air (--ballistic, --vacuum; since session 30): an upper bound on
+    the shots' total energy per unit density at the start, `sum d^3 (v^2 / 2 + g z)`
+    over the shots (pi/6 and the density dropped; every shot of such a scene has the
+    diameter `d` and starts at speed `v`): boxes start at their velocity below the box's
+    top, streams at their entry speed below the inlet's highest point. None for scenes
+    with air. Contacts can only dissipate (restitution at most 1, friction), so the
+    energy at the end must not exceed it beyond the integrator's error."""
+    import re
+    num = lambda key: float(re.search(rf"^{key} = ([-0-9.e]+)", text, re.M).group(1))
+    if "drag = false" not in text:
+        return None
+    g = num("gravity_m_s2")
+    d = num("diameter_mm") * 1e-3
+    if 'type = "box"' in text:
+        vel = re.search(r"velocity_m_s = \[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\]", text).groups()
+        v2 = sum(float(c) ** 2 for c in vel)
+        top = float(re.search(r"max_mm = \[[-0-9.]+, [-0-9.]+, ([-0-9.]+)\]", text).group(1)) * 1e-3
+    else:
+        v2 = num("entry_speed_m_s") ** 2
+        top = (num("standoff_mm") + num("length_mm") + num("bore_mm")) * 1e-3
+    return d ** 3 * (0.5 * v2 + g * top), g
+
+
+def energy_at_end(shots_csv, g):
+    """The shots' total energy per unit density at the end (as `energy_bound`), their
+    spin's included (a solid sphere: I = m d^2 / 10)."""
+    total = 0.0
+    with open(shots_csv) as f:
+        for row in csv.DictReader(f):
+            d = float(row["diameter_m"])
+            v2 = sum(float(row[k]) ** 2 for k in ("vx_m_s", "vy_m_s", "vz_m_s"))
+            w2 = sum(float(row[k]) ** 2 for k in ("omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s"))
+            total += d ** 3 * (0.5 * v2 + 0.05 * d * d * w2 + g * float(row["z_m"]))
+    return total
+
+
 def check(binary, path, out):
     """What went wrong with one run (empty: nothing), and whether the scene was refused."""
     try:
@@ -329,6 +367,18 @@ def check(binary, path, out):
                 if not v < 300.0:
                     bad.append(f"impact at {v} m/s")
                     break
+        # Without air nothing adds energy: the shots end with at most what they started
+        # with (each shot's bound times their count), up to the integrator's error.
+        with open(path) as f:
+            text = f.read()
+        bound = energy_bound(text)
+        if bound is not None:
+            per_shot, g = bound
+            with open(os.path.join(out, "shots.csv")) as f:
+                n = sum(1 for _ in csv.DictReader(f))
+            start, end = per_shot * n, energy_at_end(os.path.join(out, "shots.csv"), g)
+            if end > start * (1.0 + 1e-3):
+                bad.append(f"energy grew: {end / start:.6f} of the bound at the start")
         # No shot ends with its centre through the specimen (z = 0).
         with open(os.path.join(out, "shots.csv")) as f:
             for row in csv.DictReader(f):
