@@ -235,14 +235,21 @@ fn advance_island(
 /// The candidate pairs (global ids) of one island.
 type IslandPairs = Vec<(u32, u32)>;
 
-/// What one island returns from a window: its members, its pairs by global key, its
-/// output, its snapshot points.
-type IslandResult = (
-    Vec<ShotState>,
-    Vec<((u32, u32), IslandPair)>,
-    IslandOutput,
-    Vec<(u64, SnapshotPoint)>,
-);
+/// What one island returns from a window. (The variants differ in size; boxing the
+/// larger one would cost an allocation per stepped island in every window.)
+#[allow(clippy::large_enum_variant)]
+enum IslandResult {
+    /// A lone shot whose kept step covers the window (most shots in flight, in most
+    /// windows): its state at the window's end, read off that step in place.
+    Kept(island::Kept),
+    /// Its members, its pairs by global key, its output, its snapshot points.
+    Stepped(
+        Vec<ShotState>,
+        Vec<((u32, u32), IslandPair)>,
+        IslandOutput,
+        Vec<(u64, SnapshotPoint)>,
+    ),
+}
 
 /// Contact state of a shot pair that persists between windows.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1335,12 +1342,15 @@ impl Simulation {
                 // `idx` is ascending: each member's slot by binary search (no per-window
                 // array over every shot fed).
                 let mut pos = vec![Vec3::zeros(); idx.len()];
-                for (isl, (members, _, _, _)) in islands.iter().zip(&results) {
+                for (isl, result) in islands.iter().zip(&results) {
                     for (k, &gi) in isl.iter().enumerate() {
                         let slot = idx
                             .binary_search(&gi)
                             .expect("BUG: island member outside idx");
-                        pos[slot] = members[k].pos;
+                        pos[slot] = match result {
+                            IslandResult::Kept(kept) => kept.pos(),
+                            IslandResult::Stepped(members, ..) => members[k].pos,
+                        };
                     }
                 }
                 pos
@@ -1459,6 +1469,13 @@ impl Simulation {
         let phys = &self.physics;
         let snap = self.snapshot_interval;
         let run = |scratch: &mut Scratch, (members_idx, gpairs): (&Vec<usize>, &IslandPairs)| {
+            // A lone shot whose kept step covers the window only reads its state there
+            // (`island::advance_alone` would do the same on a copy of it).
+            if let ([i], [], None) = (&members_idx[..], &gpairs[..], snap)
+                && let Some(kept) = island::Kept::read(phys, &self.shots[*i], t1)
+            {
+                return IslandResult::Kept(kept);
+            }
             let mut members: Vec<ShotState> =
                 members_idx.iter().map(|&i| self.shots[i].clone()).collect();
             // Members are in ascending order (`form_islands` keeps `idx`'s): a pair's
@@ -1495,7 +1512,7 @@ impl Simulation {
                 snap,
             );
             let keyed = gpairs.iter().copied().zip(pairs).collect();
-            (members, keyed, out, pts)
+            IslandResult::Stepped(members, keyed, out, pts)
         };
         // Small windows run on this thread: handing a window's few steps to the pool and
         // waking its workers costs more than it saves (measured: the 10,000-shot nozzle
@@ -1536,7 +1553,14 @@ impl Simulation {
 
     #[allow(clippy::type_complexity)]
     fn commit_islands(&mut self, islands: &[Vec<usize>], results: Vec<IslandResult>) {
-        for (isl, (members, pairs, out, pts)) in islands.iter().zip(results) {
+        for (isl, result) in islands.iter().zip(results) {
+            let (members, pairs, out, pts) = match result {
+                IslandResult::Kept(kept) => {
+                    kept.store(&mut self.shots[isl[0]]);
+                    continue;
+                }
+                IslandResult::Stepped(members, pairs, out, pts) => (members, pairs, out, pts),
+            };
             self.snapshot_points.extend(pts);
             for (k, m) in members.into_iter().enumerate() {
                 self.shots[isl[k]] = m;

@@ -1740,18 +1740,19 @@ pub fn advance_alone(
         );
         return;
     }
+    if let Some(k) = Kept::read(phys, m, t1) {
+        k.store(m);
+        observer(t1, k.state());
+        return;
+    }
     let mut t0 = t0;
     if let Some(step) = m.ahead.take() {
-        let spin = phys.contacts.friction.is_some();
-        scratch.y.resize(if spin { 9 } else { 6 }, 0.0);
-        let at = t1.min(step.end());
+        // The kept step ends within the window: go on from its exact end.
+        scratch.y.resize(state_len(phys), 0.0);
+        let at = step.end();
         step.at(at, &mut scratch.y);
         store_state(std::slice::from_mut(m), &scratch.y);
         observer(at, &scratch.y);
-        if t1 < step.end() {
-            m.ahead = Some(step);
-            return;
-        }
         t0 = at;
     }
     advance_adaptive(
@@ -1766,6 +1767,61 @@ pub fn advance_alone(
         out,
         observer,
     );
+}
+
+/// A lone shot's state length: position and velocity, and the spin with friction.
+fn state_len(phys: &Physics) -> usize {
+    if phys.contacts.friction.is_some() {
+        9
+    } else {
+        6
+    }
+}
+
+/// The state at a window's end `t1` of a lone shot whose kept step
+/// ([`ShotState::ahead`]) runs past `t1`: all that [`advance_alone`] does for it is read
+/// the step's dense output there. The window scheduler reads it without handing the
+/// shot to an island (no copy of its state).
+#[derive(Debug, Clone, Copy)]
+pub struct Kept {
+    y: [f64; 9],
+    len: usize,
+}
+
+impl Kept {
+    /// The kept state at `t1`, if `m`'s kept step runs past `t1` (the adaptive method).
+    #[inline]
+    pub fn read(phys: &Physics, m: &ShotState, t1: f64) -> Option<Self> {
+        let step = m.ahead.as_ref()?;
+        if !matches!(phys.method, Method::Adaptive) || t1 >= step.end() {
+            return None;
+        }
+        let mut k = Kept {
+            y: [0.0; 9],
+            len: state_len(phys),
+        };
+        step.at(t1, &mut k.y[..k.len]);
+        Some(k)
+    }
+
+    /// The flat state (`[x v]`, then `w` with friction).
+    #[inline]
+    pub fn state(&self) -> &[f64] {
+        &self.y[..self.len]
+    }
+
+    /// The shot's position.
+    #[inline]
+    pub fn pos(&self) -> Vec3 {
+        pos(&self.y, 0)
+    }
+
+    /// Writes the state into `m` (as any step's end: only an active shot moves); its kept
+    /// step stays.
+    #[inline]
+    pub fn store(&self, m: &mut ShotState) {
+        store_state(std::slice::from_mut(m), self.state());
+    }
 }
 
 /// Whether any member is in contact (with the specimen, the wall or another member).
