@@ -1181,20 +1181,23 @@ impl Simulation {
                 mark(i, kicked, &mut stack);
             }
         }
-        let mut adjacency: HashMap<u32, Vec<u32>> = HashMap::default();
+        // Both directions of every absolute-reach pair, sorted: a shot's neighbours are
+        // one run of it (the kicked set is their closure, whatever the order).
+        let mut adjacency: Vec<(u32, u32)> = Vec::with_capacity(2 * abs.len());
         for &(a, b) in &abs {
             if self.pairs.contains_key(&(a, b)) || closing(a as usize, b as usize) {
                 mark(a as usize, kicked, &mut stack);
                 mark(b as usize, kicked, &mut stack);
             }
-            adjacency.entry(a).or_default().push(b);
-            adjacency.entry(b).or_default().push(a);
+            adjacency.push((a, b));
+            adjacency.push((b, a));
         }
+        adjacency.sort_unstable();
         while let Some(i) = stack.pop() {
-            if let Some(nb) = adjacency.get(&(i as u32)) {
-                for &j in nb {
-                    mark(j as usize, kicked, &mut stack);
-                }
+            let i = i as u32;
+            let first = adjacency.partition_point(|&(a, _)| a < i);
+            for &(_, j) in adjacency[first..].iter().take_while(|&&(a, _)| a == i) {
+                mark(j as usize, kicked, &mut stack);
             }
         }
         abs.into_iter()
@@ -1252,14 +1255,12 @@ impl Simulation {
         least <= r && tube.clearance(&s.pos, r) < reach - r
     }
 
-    /// Candidate pairs (global ids) for a window ending at `t1`: reach-inflated radii,
-    /// plus every pair in contact.
-    fn candidates(&mut self, idx: &[usize], t0: f64, t1: f64) -> HashSet<(u32, u32)> {
+    /// Candidate pairs (global ids) for a window: the shots `idx` with their
+    /// reach-inflated radii `reach` ([`Simulation::inflated_radius`]), plus every pair in
+    /// contact.
+    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> HashSet<(u32, u32)> {
         let centres: Vec<Vec3> = idx.iter().map(|&i| self.shots[i].pos).collect();
-        let inflated: Vec<f64> = idx
-            .iter()
-            .map(|&i| self.inflated_radius(&self.shots[i], t0, t1))
-            .collect();
+        let inflated: Vec<f64> = idx.iter().map(|&i| reach[i]).collect();
         self.work.neighbour_searches += 1;
         let mut candidates: HashSet<(u32, u32)> = self
             .cells
@@ -1301,20 +1302,28 @@ impl Simulation {
         if all.is_empty() {
             return t1;
         }
-        // Candidates for the longest window; shorter windows only need a subset of them.
-        let widest = self.candidates(&all, t0, t1);
         let mut reach = std::mem::take(&mut self.reach_buf);
         let mut kicked = std::mem::take(&mut self.kicked_buf);
         reach.reset(&self.shots, 0.0);
         kicked.reset(&self.shots, false);
+        for &i in &all {
+            reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+        }
+        // Candidates for the longest window; shorter windows only need a subset of them.
+        let widest = self.candidates(&all, &reach);
+        // The window end `reach` holds (the longest first, as `all` is).
+        let mut reach_t1 = t1;
         let (idx, mut candidates) = loop {
             let idx: Vec<usize> = all
                 .iter()
                 .copied()
                 .filter(|&i| self.shots[i].t_start < t1)
                 .collect();
-            for &i in &idx {
-                reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+            if t1 != reach_t1 {
+                for &i in &idx {
+                    reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+                }
+                reach_t1 = t1;
             }
             let candidates = self.refine_candidates(&idx, &widest, &reach, &mut kicked, t0, t1);
             // With the fixed-step method an island's size costs nothing (every shot
