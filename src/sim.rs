@@ -1181,23 +1181,20 @@ impl Simulation {
                 mark(i, kicked, &mut stack);
             }
         }
-        // Both directions of every absolute-reach pair, sorted: a shot's neighbours are
-        // one run of it (the kicked set is their closure, whatever the order).
-        let mut adjacency: Vec<(u32, u32)> = Vec::with_capacity(2 * abs.len());
+        let mut adjacency: HashMap<u32, Vec<u32>> = HashMap::default();
         for &(a, b) in &abs {
             if self.pairs.contains_key(&(a, b)) || closing(a as usize, b as usize) {
                 mark(a as usize, kicked, &mut stack);
                 mark(b as usize, kicked, &mut stack);
             }
-            adjacency.push((a, b));
-            adjacency.push((b, a));
+            adjacency.entry(a).or_default().push(b);
+            adjacency.entry(b).or_default().push(a);
         }
-        adjacency.sort_unstable();
         while let Some(i) = stack.pop() {
-            let i = i as u32;
-            let first = adjacency.partition_point(|&(a, _)| a < i);
-            for &(_, j) in adjacency[first..].iter().take_while(|&&(a, _)| a == i) {
-                mark(j as usize, kicked, &mut stack);
+            if let Some(nb) = adjacency.get(&(i as u32)) {
+                for &j in nb {
+                    mark(j as usize, kicked, &mut stack);
+                }
             }
         }
         abs.into_iter()
