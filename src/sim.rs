@@ -1463,7 +1463,6 @@ impl Simulation {
         (islands, island_pairs)
     }
 
-    #[allow(clippy::type_complexity)]
     fn integrate_islands(
         &self,
         idx: &[usize],
@@ -1557,7 +1556,6 @@ impl Simulation {
         (islands, results)
     }
 
-    #[allow(clippy::type_complexity)]
     fn commit_islands(&mut self, islands: &[Vec<usize>], results: Vec<IslandResult>) {
         for (isl, result) in islands.iter().zip(results) {
             let (members, pairs, out, pts) = match result {
