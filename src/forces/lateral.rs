@@ -35,27 +35,25 @@ impl LateralForceModel {
         }
     }
 
-    /// Lateral force (N) on a shot of `mass` (kg) and frontal `area` (m^2).
+    /// Lateral force (N) on a shot of `mass` (kg) at the flow sample `flow`. `mean_drag`
+    /// gives the drag force (N) of the mean flow on the shot under this law's drag; it is
+    /// called only where the force is not zero (the caller may have that drag already).
     #[inline]
     pub fn force(
         &self,
         mass: f64,
-        area: f64,
         flow: &FlowSample,
         region: Region,
         axis: &Vec3,
-        velocity: &Vec3,
+        mean_drag: impl FnOnce() -> Vec3,
     ) -> Vec3 {
         let f = self.weight(region, flow.coords.s, flow.coords.r);
         if f == 0.0 {
             return Vec3::zeros();
         }
-        let drag = self
-            .drag
-            .force(area, flow.density, &flow.velocity, velocity);
-        let a_axial = drag.dot(axis).abs() / mass;
+        let a_axial = mean_drag().dot(axis).abs() / mass;
         let ratio = self.lift_coefficient / self.drag.coefficient;
-        flow.coords.radial
+        flow.coords.radial()
             * (mass * ratio * a_axial * f * self.divergence_tan * self.divergence_tan)
     }
 }
@@ -98,11 +96,12 @@ mod tests {
             coords: JetCoords {
                 s: 0.01,
                 r: 0.002,
-                radial: Vec3::new(0.0, 1.0, 0.0),
+                offset: Vec3::new(0.0, 0.002, 0.0),
             },
         };
         let (mass, area) = (2e-6, 5e-7);
-        let f = m.force(mass, area, &flow, Region::Mixing, &axis, &Vec3::zeros());
+        let drag = || m.drag.force(area, 5.0, &flow.velocity, &Vec3::zeros());
+        let f = m.force(mass, &flow, Region::Mixing, &axis, drag);
         let a_axial = 0.5 * 5.0 * 0.47 * area * 300.0 * 300.0 / mass;
         let expected = mass * (0.15 / 0.47) * a_axial * (10.0 * 0.002 / (0.01 + 0.03)) * 0.01;
         assert!((f.y - expected).abs() < 1e-15 * expected.max(1.0) && f.x == 0.0 && f.z == 0.0);

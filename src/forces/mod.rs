@@ -75,18 +75,28 @@ impl ForceSet {
             work.flow_samples += 1;
             let flow = field.sample(pos, region);
             let area = body.area();
+            // The lateral force is driven by the mean flow's drag: computed once when the
+            // drag effect has it (no gust), by the lateral force otherwise.
+            let mut mean_drag = None;
             if let Some(drag) = &self.drag {
                 work.drag_calls += 1;
-                let air = if self.turbulence.is_some() && Turbulence::turbulent(region) {
-                    flow.velocity + gust
+                let f = if self.turbulence.is_some() && Turbulence::turbulent(region) {
+                    drag.force(area, flow.density, &(flow.velocity + gust), vel)
                 } else {
-                    flow.velocity
+                    let f = drag.force(area, flow.density, &flow.velocity, vel);
+                    mean_drag = Some(f);
+                    f
                 };
-                force += drag.force(area, flow.density, &air, vel);
+                force += f;
             }
             if let Some(lateral) = &self.lateral {
                 work.lateral_force_calls += 1;
-                force += lateral.force(body.mass, area, &flow, region, &field.axis, vel);
+                let drag = || {
+                    mean_drag.unwrap_or_else(|| {
+                        (lateral.drag).force(area, flow.density, &flow.velocity, vel)
+                    })
+                };
+                force += lateral.force(body.mass, &flow, region, &field.axis, drag);
             }
             acc = force / body.mass;
         }
@@ -122,5 +132,81 @@ impl ForceSet {
             a += g.acceleration.norm();
         }
         a
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flow::JetModel;
+
+    fn forces(turbulence: Option<Turbulence>) -> ForceSet {
+        let drag = DragModel { coefficient: 0.47 };
+        ForceSet {
+            drag: Some(drag),
+            lateral: Some(LateralForceModel {
+                lift_coefficient: 0.15,
+                divergence_tan: 0.1,
+                bore: 6e-3,
+                drag,
+            }),
+            gravity: None,
+            field: Some(JetField {
+                exit: Vec3::new(0.0, 0.0, 0.1),
+                axis: Vec3::new(0.0, 0.0, -1.0),
+                bore: 6e-3,
+                length: 40e-3,
+                exit_velocity: 313.25,
+                rho_core: 5.3478,
+                rho_exit: 5.3478,
+                rho_ambient: 1.205,
+                lip_density_cap: 8.435,
+                model: JetModel::Paper,
+            }),
+            turbulence,
+        }
+    }
+
+    /// The drag term and the lateral force's mean-flow drag are computed once when they
+    /// are the same force; with a gust, the lateral force still follows the mean flow.
+    #[test]
+    fn the_lateral_force_is_driven_by_the_mean_flows_drag() {
+        let body = ShotBody {
+            radius: 0.4e-3,
+            mass: 2.1e-6,
+        };
+        // In the mixing layer, off the axis, moving slower than the air.
+        let pos = Vec3::new(1.5e-3, 1.0e-3, 0.1 - 0.012);
+        let vel = Vec3::new(1.0, -2.0, -60.0);
+        let gust = Vec3::new(3.0, -1.0, 20.0);
+        let mut work = WorkCounters::default();
+        for turbulence in [
+            None,
+            Some(Turbulence {
+                intensity: 0.1,
+                scale: 0.4,
+                bore: 6e-3,
+                seed: 1,
+            }),
+        ] {
+            let set = forces(turbulence);
+            let field = set.field.as_ref().unwrap();
+            let region = field.region_of(&field.coords(&pos));
+            assert_eq!(region, Region::Mixing);
+            let flow = field.sample(&pos, region);
+            let (drag, lateral) = (set.drag.unwrap(), set.lateral.unwrap());
+            let area = body.area();
+            let mean = drag.force(area, flow.density, &flow.velocity, &vel);
+            let seen = if turbulence.is_some() {
+                drag.force(area, flow.density, &(flow.velocity + gust), &vel)
+            } else {
+                mean
+            };
+            let side = lateral.force(body.mass, &flow, region, &field.axis, || mean);
+            assert!(side.norm() > 0.0 && side.dot(&field.axis).abs() < 1e-18);
+            let expected = (Vec3::zeros() + seen + side) / body.mass;
+            let got = set.acceleration(&body, &pos, &vel, region, &gust, &mut work);
+            assert_eq!(got, expected);
+        }
     }
 }

@@ -99,7 +99,7 @@ mod tests {
         let c = JetCoords {
             s: 0.02,
             r: 0.004,
-            radial: Vec3::x(),
+            offset: Vec3::x() * 0.004,
         };
         let a = t.eddy(3, 7, &c, Region::Mixing, 300.0).unwrap();
         assert_eq!(a, t.eddy(3, 7, &c, Region::Mixing, 300.0).unwrap());
