@@ -232,6 +232,281 @@ fn advance_island(
     tap.map_or_else(Vec::new, |t| t.points)
 }
 
+/// Sub-windows an island's window is cut into (see [`advance_split`]). Measured on the
+/// nozzle streams (docs/performance.md, session 31): two parts save the most; four, eight
+/// and sixteen cost more in per-part work than they save in steps.
+const SPLIT_PARTS: usize = 2;
+/// Fewest members for which an island's window is cut into sub-windows.
+const SPLIT_MIN: usize = 3;
+
+/// Advances an island of the window `[t0, t1]` in [`SPLIT_PARTS`] sub-windows, each with
+/// its own groups ([`sub_window`]): within a sub-window only the members that may touch
+/// in it share a clock. An island is the closure of the shots that may touch within the
+/// whole window (a shot that may be kicked pulls in everybody within its absolute reach);
+/// over part of the window the reach shrinks with it, the closure falls apart, and a
+/// contact's short steps are taken by the shots near it, not by every member.
+/// `may_kick[k]`: whether the window took member `k` as possibly kicked (by a wall or a
+/// neighbour); a member it did not cannot meet a wall in any part of the window.
+#[allow(clippy::too_many_arguments)]
+fn advance_split(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    may_kick: &[bool],
+    (t0, t1): (f64, f64),
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    snapshot_interval: Option<f64>,
+) -> Vec<(u64, SnapshotPoint)> {
+    let mut points = Vec::new();
+    for k in 0..SPLIT_PARTS {
+        let part = |k: usize| t0 + (t1 - t0) * k as f64 / SPLIT_PARTS as f64;
+        let span = (
+            part(k),
+            if k + 1 == SPLIT_PARTS {
+                t1
+            } else {
+                part(k + 1)
+            },
+        );
+        let snap = snapshot_interval;
+        points.extend(sub_window(
+            phys, members, pairs, may_kick, span, scratch, out, snap,
+        ));
+    }
+    points
+}
+
+/// One sub-window `[a, b]` of [`advance_split`]: the window's candidate test
+/// (`Simulation::refine_candidates`) on the island's pairs, groups by union-find, each
+/// group advanced on its own clock, then the window's safety net (a member that moved
+/// farther than its reach is checked for overlaps with members it was not grouped with;
+/// any found are linked and the sub-window redone). Returns the snapshot points.
+#[allow(clippy::too_many_arguments)]
+fn sub_window(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    may_kick: &[bool],
+    (a, b): (f64, f64),
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    snapshot_interval: Option<f64>,
+) -> Vec<(u64, SnapshotPoint)> {
+    let n = members.len();
+    let on = |m: &ShotState| m.is_active();
+    let reach: Vec<f64> = members
+        .iter()
+        .map(|m| inflated_radius(phys, m, a, b))
+        .collect();
+    let span = b - a;
+    // Members by local index (the union-find's nodes are then the members themselves).
+    let local: Vec<usize> = (0..n).collect();
+    // The window's candidate test, by components: the kicked set spreads over the pairs
+    // within absolute reach, so it is a union of their components, and a component is
+    // kicked if a member may meet a wall, or a pair touches or closes by relative motion.
+    // The pairs of a kicked component are linked; the members of the others fly apart.
+    let mut uf = LocalUnionFind::new(&local);
+    let abs: Vec<bool> = pairs
+        .iter()
+        .map(|p| {
+            let (i, j) = (p.a as usize, p.b as usize);
+            on(&members[i])
+                && on(&members[j])
+                && (p.touching || (members[i].pos - members[j].pos).norm() < reach[i] + reach[j])
+        })
+        .collect();
+    for (p, _) in pairs.iter().zip(&abs).filter(|x| *x.1) {
+        uf.union(p.a as usize, p.b as usize);
+    }
+    let mut kicked = vec![false; n];
+    for i in 0..n {
+        // A member the window did not take as kicked meets no wall in any part of it.
+        if may_kick[i] && on(&members[i]) && near_a_wall(phys, &members[i], reach[i], a, b) {
+            kicked[uf.find(i)] = true;
+        }
+    }
+    for (p, _) in pairs.iter().zip(&abs).filter(|x| *x.1) {
+        let r = uf.find(p.a as usize);
+        if !kicked[r]
+            && (p.touching || closing(phys, &members[p.a as usize], &members[p.b as usize], span))
+        {
+            kicked[r] = true;
+        }
+    }
+    let mut linked: Vec<bool> = pairs
+        .iter()
+        .zip(&abs)
+        .map(|(p, &x)| x && kicked[uf.find(p.a as usize)])
+        .collect();
+    loop {
+        // Groups: members joined by linked pairs, in ascending order of their first member.
+        let mut uf = LocalUnionFind::new(&local);
+        for (p, _) in pairs.iter().zip(&linked).filter(|x| *x.1) {
+            uf.union(p.a as usize, p.b as usize);
+        }
+        let mut group_of = vec![usize::MAX; n];
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for i in 0..n {
+            if !on(&members[i]) {
+                continue;
+            }
+            let r = uf.find(i);
+            if group_of[r] == usize::MAX {
+                group_of[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            group_of[i] = group_of[r];
+            groups[group_of[i]].push(i);
+        }
+        // Each group's linked pairs, in the island's order.
+        let mut group_pairs: Vec<Vec<usize>> = vec![Vec::new(); groups.len()];
+        for (p, pair) in pairs.iter().enumerate() {
+            if linked[p] {
+                group_pairs[group_of[pair.a as usize]].push(p);
+            }
+        }
+        let mut results: Vec<(Vec<ShotState>, Vec<IslandPair>, IslandOutput)> =
+            Vec::with_capacity(groups.len());
+        let mut points = Vec::new();
+        let mut slot = vec![0u32; n];
+        for (g, gps) in groups.iter().zip(&group_pairs) {
+            for (k, &i) in g.iter().enumerate() {
+                slot[i] = k as u32;
+            }
+            let mut gm: Vec<ShotState> = g.iter().map(|&i| members[i].clone()).collect();
+            let mut gp: Vec<IslandPair> = gps
+                .iter()
+                .map(|&p| IslandPair {
+                    a: slot[pairs[p].a as usize],
+                    b: slot[pairs[p].b as usize],
+                    ..pairs[p]
+                })
+                .collect();
+            let mut gout = IslandOutput::default();
+            let snap = snapshot_interval;
+            points.extend(advance_island(
+                phys, &mut gm, &mut gp, a, b, scratch, &mut gout, snap,
+            ));
+            results.push((gm, gp, gout));
+        }
+        // Verify: only a member that moved farther than its reach can meet one it was not
+        // grouped with.
+        let end = |i: usize| results[group_of[i]].0[slot[i] as usize].pos;
+        let escaped = (0..n).any(|i| {
+            on(&members[i]) && (end(i) - members[i].pos).norm() > reach[i] - members[i].body.radius
+        });
+        if escaped {
+            let mut missed = false;
+            for (p, pair) in pairs.iter().enumerate() {
+                let (i, j) = (pair.a as usize, pair.b as usize);
+                if linked[p] || !on(&members[i]) || !on(&members[j]) {
+                    continue;
+                }
+                let gap =
+                    (end(i) - end(j)).norm() - members[i].body.radius - members[j].body.radius;
+                if gap < 0.0 {
+                    linked[p] = true;
+                    missed = true;
+                }
+            }
+            if missed {
+                continue;
+            }
+        }
+        // Commit: members, the linked pairs' contact states, the outputs in group order.
+        for ((g, gps), (gm, gp, gout)) in groups.iter().zip(&group_pairs).zip(results) {
+            for (&p, done) in gps.iter().zip(gp) {
+                pairs[p].touching = done.touching;
+                pairs[p].contact_time = done.contact_time;
+                pairs[p].onset = done.onset;
+            }
+            for (&i, m) in g.iter().zip(gm) {
+                members[i] = m;
+            }
+            out.impacts.extend(gout.impacts);
+            out.events.extend(gout.events);
+            out.work.add(&gout.work);
+        }
+        return points;
+    }
+}
+
+/// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
+/// margin for collision kicks) times span plus the body-force bound.
+#[inline]
+fn inflated_radius(phys: &Physics, s: &ShotState, t0: f64, t1: f64) -> f64 {
+    let span = (t1 - s.t_start.max(t0)).max(0.0);
+    let speed = 1.5 * s.vel.norm();
+    let a = phys.forces.acceleration_bound(&s.body, speed + 1.0);
+    s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
+}
+
+/// Whether shot `s`, whose reach over the window `t0..t1` is `reach`
+/// ([`inflated_radius`]), may touch the nozzle tube in it. Beside the tube
+/// the gap decides. A shot more than a radius beyond either end, where
+/// [`Tube::geometry`](crate::contact::Tube::geometry) says `None`, may still reach
+/// that end (the exit's lip or face) within the window: it does if its distance along
+/// the axis can come within a radius of the end's plane under the acceleration bound,
+/// and its clearance is within its reach (session 27: a shot rising onto a nozzle
+/// body's face was not taken as kicked, and a neighbour taken as independent of it was
+/// run through). Shots leaving the exit are not: their distance along the axis grows.
+#[inline]
+fn may_reach_tube(
+    phys: &Physics,
+    s: &ShotState,
+    tube: &crate::contact::Tube,
+    reach: f64,
+    t0: f64,
+    t1: f64,
+) -> bool {
+    let r = s.body.radius;
+    if let Some(g) = tube.geometry(&s.pos, r) {
+        return g.gap < reach - r;
+    }
+    let span = (t1 - s.t_start.max(t0)).max(0.0);
+    let a = phys
+        .forces
+        .acceleration_bound(&s.body, 1.5 * s.vel.norm() + 1.0);
+    let along = (s.pos - tube.exit).dot(&tube.axis);
+    let v_along = s.vel.dot(&tube.axis);
+    // Beyond the exit (downstream) the distance is `along`; beyond the inlet it is
+    // measured upstream. Its least value over the window is at one end of it.
+    let (dist, closing) = if along > 0.0 {
+        (along, -v_along)
+    } else {
+        (-tube.length - along, v_along)
+    };
+    let least = dist - (closing * span + 0.5 * a * span * span).max(0.0) - 1e-9;
+    least <= r && tube.clearance(&s.pos, r) < reach - r
+}
+
+/// Whether shots `sa` and `sb`, flying on body forces alone, can close their gap within
+/// `span` by their relative motion (`gap < |v_a - v_b| span + (a_a + a_b) span^2 / 2`).
+#[inline]
+fn closing(phys: &Physics, sa: &ShotState, sb: &ShotState, span: f64) -> bool {
+    let gap = (sa.pos - sb.pos).norm() - sa.body.radius - sb.body.radius;
+    let acc = phys
+        .forces
+        .acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
+        + phys
+            .forces
+            .acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
+    gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
+}
+
+/// Whether shot `s`, whose reach over `t0..t1` is `reach`, may be kicked by the specimen
+/// or the nozzle tube in that span (or is in contact with either).
+#[inline]
+fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, t0: f64, t1: f64) -> bool {
+    let near_specimen = phys.contacts.specimen.is_some() && s.pos.z < reach;
+    let near_wall = phys
+        .contacts
+        .wall
+        .is_some_and(|w| may_reach_tube(phys, s, &w.tube, reach, t0, t1));
+    near_specimen || near_wall || s.on_specimen || s.on_wall
+}
+
 /// The candidate pairs (global ids) of one island.
 type IslandPairs = Vec<(u32, u32)>;
 
@@ -522,6 +797,8 @@ pub struct Simulation {
     parallel_min_shots: usize,
     /// The event scheduler resolves lone contacts on its lean path (`events::binary`).
     lean_contacts: bool,
+    /// Islands of [`SPLIT_MIN`] or more shots run in sub-windows ([`advance_split`]).
+    sub_windows: bool,
     /// Told, during the run, what the caller should hear at once (see [`Self::with_notice`]).
     notice: Option<Notice>,
 }
@@ -645,6 +922,14 @@ impl Simulation {
         self
     }
 
+    /// Whether the window scheduler runs islands of three or more shots in sub-windows,
+    /// each with its own groups (default), or over the whole window with one clock. For
+    /// comparisons: both integrate the same physics to the tolerance.
+    pub fn with_sub_windows(mut self, on: bool) -> Self {
+        self.sub_windows = on;
+        self
+    }
+
     /// Whether the event scheduler resolves lone frictionless contacts on its lean path
     /// (closed form and a two-body frame, `events::binary`; default) or every contact as
     /// an island. For comparisons: both resolve the same physics to the tolerance.
@@ -692,6 +977,7 @@ impl Simulation {
             scheduler: Scheduler::Auto,
             parallel_min_shots: PARALLEL_MIN_SHOTS,
             lean_contacts: true,
+            sub_windows: true,
             notice: None,
             physics,
             shots: ShotStore::from_vec(shots),
@@ -1145,19 +1431,8 @@ impl Simulation {
                         || self.pairs.contains_key(&(a as u32, b as u32)))
             })
             .collect();
-        let closing = |a: usize, b: usize| -> bool {
-            let (sa, sb) = (&self.shots[a], &self.shots[b]);
-            let gap = (sa.pos - sb.pos).norm() - sa.body.radius - sb.body.radius;
-            let acc = self
-                .physics
-                .forces
-                .acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
-                + self
-                    .physics
-                    .forces
-                    .acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
-            gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
-        };
+        let closing =
+            |a: usize, b: usize| closing(&self.physics, &self.shots[a], &self.shots[b], span);
         for &i in idx {
             kicked[i] = false;
         }
@@ -1168,16 +1443,9 @@ impl Simulation {
                 stack.push(i);
             }
         };
-        let specimen = self.physics.contacts.specimen.is_some();
-        let wall = self.physics.contacts.wall;
         for &i in idx {
             let s = &self.shots[i];
-            if !s.is_active() || !entered(i) {
-                continue;
-            }
-            let near_specimen = specimen && s.pos.z < reach[i];
-            let near_wall = wall.is_some_and(|w| self.may_reach_tube(s, &w.tube, reach[i], t0, t1));
-            if near_specimen || near_wall || s.on_specimen || s.on_wall {
+            if s.is_active() && entered(i) && near_a_wall(&self.physics, s, reach[i], t0, t1) {
                 mark(i, kicked, &mut stack);
             }
         }
@@ -1202,54 +1470,6 @@ impl Simulation {
                 kicked[a as usize] || kicked[b as usize] || closing(a as usize, b as usize)
             })
             .collect()
-    }
-
-    /// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
-    /// margin for collision kicks) times span plus the body-force bound.
-    fn inflated_radius(&self, s: &ShotState, t0: f64, t1: f64) -> f64 {
-        let span = (t1 - s.t_start.max(t0)).max(0.0);
-        let speed = 1.5 * s.vel.norm();
-        let a = self.physics.forces.acceleration_bound(&s.body, speed + 1.0);
-        s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
-    }
-
-    /// Whether shot `s`, whose reach over the window `t0..t1` is `reach`
-    /// ([`Simulation::inflated_radius`]), may touch the nozzle tube in it. Beside the tube
-    /// the gap decides. A shot more than a radius beyond either end, where
-    /// [`Tube::geometry`](crate::contact::Tube::geometry) says `None`, may still reach
-    /// that end (the exit's lip or face) within the window: it does if its distance along
-    /// the axis can come within a radius of the end's plane under the acceleration bound,
-    /// and its clearance is within its reach (session 27: a shot rising onto a nozzle
-    /// body's face was not taken as kicked, and a neighbour taken as independent of it was
-    /// run through). Shots leaving the exit are not: their distance along the axis grows.
-    fn may_reach_tube(
-        &self,
-        s: &ShotState,
-        tube: &crate::contact::Tube,
-        reach: f64,
-        t0: f64,
-        t1: f64,
-    ) -> bool {
-        let r = s.body.radius;
-        if let Some(g) = tube.geometry(&s.pos, r) {
-            return g.gap < reach - r;
-        }
-        let span = (t1 - s.t_start.max(t0)).max(0.0);
-        let a = self
-            .physics
-            .forces
-            .acceleration_bound(&s.body, 1.5 * s.vel.norm() + 1.0);
-        let along = (s.pos - tube.exit).dot(&tube.axis);
-        let v_along = s.vel.dot(&tube.axis);
-        // Beyond the exit (downstream) the distance is `along`; beyond the inlet it is
-        // measured upstream. Its least value over the window is at one end of it.
-        let (dist, closing) = if along > 0.0 {
-            (along, -v_along)
-        } else {
-            (-tube.length - along, v_along)
-        };
-        let least = dist - (closing * span + 0.5 * a * span * span).max(0.0) - 1e-9;
-        least <= r && tube.clearance(&s.pos, r) < reach - r
     }
 
     /// Candidate pairs (global ids) for a window: the shots `idx` with their
@@ -1304,7 +1524,7 @@ impl Simulation {
         reach.reset(&self.shots, 0.0);
         kicked.reset(&self.shots, false);
         for &i in &all {
-            reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+            reach[i] = inflated_radius(&self.physics, &self.shots[i], t0, t1);
         }
         // Candidates for the longest window; shorter windows only need a subset of them.
         let widest = self.candidates(&all, &reach);
@@ -1318,7 +1538,7 @@ impl Simulation {
                 .collect();
             if t1 != reach_t1 {
                 for &i in &idx {
-                    reach[i] = self.inflated_radius(&self.shots[i], t0, t1);
+                    reach[i] = inflated_radius(&self.physics, &self.shots[i], t0, t1);
                 }
                 reach_t1 = t1;
             }
@@ -1506,16 +1726,26 @@ impl Simulation {
                 })
                 .collect();
             let mut out = IslandOutput::default();
-            let pts = advance_island(
-                phys,
-                &mut members,
-                &mut pairs,
-                t0,
-                t1,
-                scratch,
-                &mut out,
-                snap,
-            );
+            let split = self.sub_windows
+                && members.len() >= SPLIT_MIN
+                && matches!(phys.method, Method::Adaptive)
+                && members.iter().all(|m| m.t_start <= t0);
+            let pts = if split {
+                let kick: Vec<bool> = members_idx.iter().map(|&i| self.kicked_buf[i]).collect();
+                let (m, p) = (&mut members, &mut pairs);
+                advance_split(phys, m, p, &kick, (t0, t1), scratch, &mut out, snap)
+            } else {
+                advance_island(
+                    phys,
+                    &mut members,
+                    &mut pairs,
+                    t0,
+                    t1,
+                    scratch,
+                    &mut out,
+                    snap,
+                )
+            };
             let keyed = gpairs.iter().copied().zip(pairs).collect();
             IslandResult::Stepped(members, keyed, out, pts)
         };
