@@ -151,18 +151,7 @@ mod tests {
                 drag,
             }),
             gravity: None,
-            field: Some(JetField {
-                exit: Vec3::new(0.0, 0.0, 0.1),
-                axis: Vec3::new(0.0, 0.0, -1.0),
-                bore: 6e-3,
-                length: 40e-3,
-                exit_velocity: 313.25,
-                rho_core: 5.3478,
-                rho_exit: 5.3478,
-                rho_ambient: 1.205,
-                lip_density_cap: 8.435,
-                model: JetModel::Paper,
-            }),
+            field: Some(crate::flow::jet::tests::paper_field(JetModel::Paper)),
             turbulence,
         }
     }
