@@ -2028,15 +2028,67 @@ fn advance_adaptive(
         let g1 = ctx.event_margin(members, pairs, pushing, t + h, y_new);
         if may_pass && t + h > t1 {
             // The step runs past the window end: keep it only if nothing happens in it.
-            let p = pos(y_new, 0);
             let r = members[0].body.radius;
-            let clear = g1 >= 0.0
-                && phys.domain.contains(&p)
-                && phys
-                    .contacts
-                    .wall
-                    .is_none_or(|w| w.geometry(&p, r).is_none_or(|g| g.gap > 0.0));
-            if !clear {
+            let clear = |y: &[f64], g: f64| {
+                let p = pos(y, 0);
+                g >= 0.0
+                    && phys.domain.contains(&p)
+                    && phys
+                        .contacts
+                        .wall
+                        .is_none_or(|w| w.geometry(&p, r).is_none_or(|g| g.gap > 0.0))
+            };
+            let mut err_norm = err_norm;
+            let mut passes = clear(y_new, g1);
+            if !passes && g1 < 0.0 && g0 > 0.0 {
+                // An event inside the step (a jet region's boundary, the specimen): a
+                // step that stops short of it may still run past the window end. Without
+                // it the shot would step window by window up to the event.
+                // Where the margin crosses zero, by the step's dense output (no right-hand
+                // side needed): regula falsi, Illinois variant, keeping a point before it.
+                dopri.dense_into(t, y, y_new, h, dense);
+                probe.clone_from(y);
+                let (mut lo, mut g_lo, mut hi, mut g_hi, mut side) = (0.0, g0, h, g1, 0);
+                for _ in 0..12 {
+                    let c = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+                    if !(c > lo && c < hi) {
+                        break;
+                    }
+                    dense.at(t + c, probe);
+                    let g = ctx.event_margin(members, pairs, pushing, t + c, probe);
+                    if g >= 0.0 {
+                        (lo, g_lo) = (c, g);
+                        if side == 1 {
+                            g_hi *= 0.5;
+                        }
+                        side = 1;
+                    } else {
+                        (hi, g_hi) = (c, g);
+                        if side == -1 {
+                            g_lo *= 0.5;
+                        }
+                        side = -1;
+                    }
+                    if hi - lo < 0.01 * hi {
+                        break;
+                    }
+                }
+                let b = 0.99 * lo;
+                if t + b > t1 {
+                    work.steps_rejected += 1;
+                    trial(&ctx, dopri, members, pairs, at, y, b, y_new, err, &mut work);
+                    let e = if y_new.iter().all(|v| v.is_finite()) {
+                        ctx.error_norm(members, t, y, err)
+                    } else {
+                        f64::INFINITY
+                    };
+                    let gb = ctx.event_margin(members, pairs, pushing, t + b, y_new);
+                    if e <= 1.0 && clear(y_new, gb) {
+                        (h, err_norm, passes) = (b, e, true);
+                    }
+                }
+            }
+            if !passes {
                 no_pass_at = t;
                 continue;
             }
@@ -2047,7 +2099,12 @@ fn advance_adaptive(
             let step = dopri.dense(t, y, y_new, h);
             step.at(t1, y);
             m.ahead = Some(std::sync::Arc::new(step));
-            h_next = h * step_factor(err_norm, 0.2, 5.0);
+            // A step cut short of an event says nothing against the proposal.
+            h_next = (h * step_factor(err_norm, 0.2, 5.0)).max(if h < h_wanted {
+                h_wanted
+            } else {
+                0.0
+            });
             t = t1;
             observer(t, y);
             break;
