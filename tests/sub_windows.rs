@@ -5,6 +5,8 @@
 //! collisions (chaotic) the distributions agree within their sampling noise, for fewer
 //! shot-steps.
 
+mod common;
+
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};
 
@@ -29,7 +31,10 @@ fn run(scene: &Scene, sub_windows: bool) -> RunOutput {
     let effects = scene.effects();
     let sim = Simulation::new(scene, &effects)
         .unwrap()
-        .with_sub_windows(sub_windows);
+        .with_sub_windows(sub_windows)
+        // Members that keep apart on separate clocks (session 32) would take most of
+        // what the sub-windows save here: one clock per group, as when they were built.
+        .with_separate_clocks(false);
     assert_eq!(sim.scheduler_in_use(), "windows");
     sim.run(&|_| {})
 }
@@ -39,33 +44,9 @@ fn run(scene: &Scene, sub_windows: bool) -> RunOutput {
 #[test]
 fn without_contacts_sub_windows_give_the_same_states_to_the_tolerance() {
     let scene = stream(3.0, 1);
-    let (whole, split) = (run(&scene, false), run(&scene, true));
-    assert_eq!(whole.shots.len(), 120);
-    assert!(whole.impacts.is_empty() && split.impacts.is_empty());
-    for s in whole.shots.iter().chain(&split.shots) {
-        assert_eq!(
-            (s.collisions, s.wall_contacts, s.hits),
-            (0, 0, 0),
-            "shot {}",
-            s.id.0
-        );
-    }
-    // The islands really were cut: fewer shot-steps.
-    let (a, b) = (whole.work.shot_steps, split.work.shot_steps);
-    assert!(b < a, "shot-steps: {a} whole, {b} in sub-windows");
-    // Same motion, to the integrator's global error: within 30 times the tolerance
-    // (1e-6), the bound docs/accuracy.md states, relative to the speed and to the
-    // flight's length (at most 0.1 m in 3 ms). Measured: 1.2e-6 m and 2.3e-5.
-    let (mut dx, mut dv) = (0.0f64, 0.0f64);
-    for (p, q) in whole.shots.iter().zip(&split.shots) {
-        assert_eq!(p.id, q.id);
-        dx = dx.max((p.pos - q.pos).norm());
-        dv = dv.max((p.vel - q.vel).norm() / p.vel.norm());
-    }
-    assert!(
-        dx < 3e-6 && dv < 3e-5,
-        "positions {dx:e} m, velocities {dv:e}"
-    );
+    // The islands really were cut: fewer shot-steps. Same motion to the tolerance.
+    // Measured (session 31): 1.2e-6 m and 2.3e-5.
+    common::same_states_for_fewer_steps(&run(&scene, false), &run(&scene, true), 1.0);
 }
 
 /// A colliding stream (1,000 shots, 30 ms; rebounds meet incoming shots), three seeds:
@@ -74,46 +55,5 @@ fn without_contacts_sub_windows_give_the_same_states_to_the_tolerance() {
 /// shot-steps 363,817 / 228,353; the seed-to-seed spread of the mean is about 0.5 %.
 #[test]
 fn with_collisions_sub_windows_keep_the_distributions_for_fewer_steps() {
-    let (mut speeds, mut radii, mut hit, mut steps) = ([0.0; 2], [0.0; 2], [0.0; 2], [0u64; 2]);
-    let mut counts = [0usize; 2];
-    for seed in 1..=3 {
-        let scene = stream(30.0, seed);
-        for (k, out) in [run(&scene, false), run(&scene, true)].iter().enumerate() {
-            assert!(
-                out.events.is_empty(),
-                "a shot was stopped: {:?}",
-                out.events
-            );
-            // First hits; the radius from the jet's axis (the vertical nozzle's: x = y = 0).
-            let first: Vec<_> = out.impacts.iter().filter(|i| i.first_hit == 1).collect();
-            for i in &first {
-                speeds[k] += i.normal_speed_m_s;
-                radii[k] += i.x_m.hypot(i.y_m);
-            }
-            counts[k] += first.len();
-            hit[k] += first.len() as f64 / out.shots.len() as f64 / 3.0;
-            steps[k] += out.work.shot_steps;
-            assert!(out.shots.iter().map(|s| s.collisions).sum::<u32>() > 100);
-        }
-    }
-    let mean = |x: [f64; 2], k: usize| x[k] / counts[k] as f64;
-    let (v0, v1) = (mean(speeds, 0), mean(speeds, 1));
-    let (r0, r1) = (mean(radii, 0), mean(radii, 1));
-    assert!(
-        (v1 / v0 - 1.0).abs() < 0.02,
-        "mean normal speed {v0} / {v1} m/s"
-    );
-    assert!((r1 / r0 - 1.0).abs() < 0.10, "mean radius {r0} / {r1} m");
-    assert!(
-        (hit[1] - hit[0]).abs() < 0.02,
-        "hit fraction {} / {}",
-        hit[0],
-        hit[1]
-    );
-    assert!(
-        (steps[1] as f64) < 0.8 * steps[0] as f64,
-        "shot-steps {} whole, {} in sub-windows",
-        steps[0],
-        steps[1]
-    );
+    common::same_hits_for_fewer_steps(|seed| stream(30.0, seed), run, 1..=3, 0.8);
 }

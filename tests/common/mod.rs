@@ -87,3 +87,98 @@ pub fn stream_without_contact(
     );
     peenflow::scene::Scene::from_toml(&text, "stream_without_contact.toml").unwrap()
 }
+
+/// A colliding nozzle stream run over `seeds` with two settings (`run(scene, false)`,
+/// then `run(scene, true)`), in which only which shots share a clock differs: checks
+/// that the first hits' distributions agree within their noise (mean normal speed
+/// within 2 %, mean radius from the jet's axis, x = y = 0, within 10 %, hit fraction
+/// within 0.02; the seed-to-seed spread of the mean speed is about 0.5 %) and that the
+/// second setting takes fewer than `step_ratio` times the first one's shot-steps.
+pub fn same_hits_for_fewer_steps(
+    scene: impl Fn(u64) -> peenflow::scene::Scene,
+    run: impl Fn(&peenflow::scene::Scene, bool) -> peenflow::sim::RunOutput,
+    seeds: std::ops::RangeInclusive<u64>,
+    step_ratio: f64,
+) {
+    let (mut speeds, mut radii, mut hit, mut steps) = ([0.0; 2], [0.0; 2], [0.0; 2], [0u64; 2]);
+    let mut counts = [0usize; 2];
+    let n_seeds = seeds.clone().count() as f64;
+    for seed in seeds {
+        let scene = scene(seed);
+        for (k, out) in [run(&scene, false), run(&scene, true)].iter().enumerate() {
+            assert!(
+                out.events.is_empty(),
+                "a shot was stopped: {:?}",
+                out.events
+            );
+            let first: Vec<_> = out.impacts.iter().filter(|i| i.first_hit == 1).collect();
+            for i in &first {
+                speeds[k] += i.normal_speed_m_s;
+                radii[k] += i.x_m.hypot(i.y_m);
+            }
+            counts[k] += first.len();
+            hit[k] += first.len() as f64 / out.shots.len() as f64 / n_seeds;
+            steps[k] += out.work.shot_steps;
+            assert!(out.shots.iter().map(|s| s.collisions).sum::<u32>() > 100);
+        }
+    }
+    let mean = |x: [f64; 2], k: usize| x[k] / counts[k] as f64;
+    let (v0, v1) = (mean(speeds, 0), mean(speeds, 1));
+    let (r0, r1) = (mean(radii, 0), mean(radii, 1));
+    assert!(
+        (v1 / v0 - 1.0).abs() < 0.02,
+        "mean normal speed {v0} / {v1} m/s"
+    );
+    assert!((r1 / r0 - 1.0).abs() < 0.10, "mean radius {r0} / {r1} m");
+    assert!(
+        (hit[1] - hit[0]).abs() < 0.02,
+        "hit fraction {} / {}",
+        hit[0],
+        hit[1]
+    );
+    assert!(
+        (steps[1] as f64) < step_ratio * steps[0] as f64,
+        "shot-steps {} / {}",
+        steps[0],
+        steps[1]
+    );
+}
+
+/// Two runs of the same shots without any contact (120 shots of a 3 ms nozzle stream)
+/// in which only which shots share a clock differs: checks that no shot touched
+/// anything, that `b` took fewer than `step_ratio` times `a`'s shot-steps, and that the
+/// shots' final states agree within 30 times the tolerance (1e-6), the global-error
+/// bound docs/accuracy.md states, relative to the speed and to the flight's length (at
+/// most 0.1 m in 3 ms). Returns the largest differences (m, relative).
+pub fn same_states_for_fewer_steps(
+    a: &peenflow::sim::RunOutput,
+    b: &peenflow::sim::RunOutput,
+    step_ratio: f64,
+) -> (f64, f64) {
+    assert_eq!(a.shots.len(), 120);
+    assert!(a.impacts.is_empty() && b.impacts.is_empty());
+    for s in a.shots.iter().chain(&b.shots) {
+        assert_eq!(
+            (s.collisions, s.wall_contacts, s.hits),
+            (0, 0, 0),
+            "shot {}",
+            s.id.0
+        );
+    }
+    let (na, nb) = (a.work.shot_steps, b.work.shot_steps);
+    assert!(
+        (nb as f64) < step_ratio * na as f64,
+        "shot-steps: {na} / {nb}"
+    );
+    let (mut dx, mut dv) = (0.0f64, 0.0f64);
+    for (p, q) in a.shots.iter().zip(&b.shots) {
+        assert_eq!(p.id, q.id);
+        dx = dx.max((p.pos - q.pos).norm());
+        dv = dv.max((p.vel - q.vel).norm() / p.vel.norm());
+    }
+    assert!(
+        dx < 3e-6 && dv < 3e-5,
+        "positions {dx:e} m, velocities {dv:e}"
+    );
+    (dx, dv)
+}
