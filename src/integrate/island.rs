@@ -2099,12 +2099,14 @@ fn advance_adaptive(
             let step = dopri.dense(t, y, y_new, h);
             step.at(t1, y);
             m.ahead = Some(std::sync::Arc::new(step));
-            // A step cut short of an event says nothing against the proposal.
-            h_next = (h * step_factor(err_norm, 0.2, 5.0)).max(if h < h_wanted {
-                h_wanted
+            // A step cut short of an event says nothing against the proposal; a
+            // rejected one does (as for any step, below).
+            let controller = h * step_factor(err_norm, 0.2, 5.0);
+            h_next = if rejected || h >= h_wanted {
+                controller
             } else {
-                0.0
-            });
+                controller.max(h_wanted)
+            };
             t = t1;
             observer(t, y);
             break;
