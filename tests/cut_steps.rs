@@ -48,11 +48,11 @@ fn a_lone_shot_through_windows_takes_the_steps_of_a_run_without_them() {
             .collect()
     };
     let (single, windowed) = (flight(&alone)[0], flight(&four));
-    // Measured (session 32): 26 steps alone, 31-34 through windows (59-65 before the
+    // Measured (session 32): 26 steps alone, 28-31 through windows (59-65 before the
     // cut, window after window up to the bore's exit, each jet region's boundary and the
     // specimen).
     assert!(
-        windowed.iter().all(|&n| 5 * n <= 7 * single),
+        windowed.iter().all(|&n| n <= single + single / 4),
         "steps to the first contact: {single} alone, {windowed:?} through windows"
     );
     // Same flight: the first shot's impact, to the integrator's tolerance. Measured:
