@@ -2099,14 +2099,12 @@ fn advance_adaptive(
             let step = dopri.dense(t, y, y_new, h);
             step.at(t1, y);
             m.ahead = Some(std::sync::Arc::new(step));
-            // A step cut short of an event says nothing against the proposal; a
-            // rejected one does (as for any step, below).
-            let controller = h * step_factor(err_norm, 0.2, 5.0);
-            h_next = if rejected || h >= h_wanted {
-                controller
+            // A step cut short of an event says nothing against the proposal.
+            h_next = (h * step_factor(err_norm, 0.2, 5.0)).max(if h < h_wanted {
+                h_wanted
             } else {
-                controller.max(h_wanted)
-            };
+                0.0
+            });
             t = t1;
             observer(t, y);
             break;
