@@ -25,7 +25,7 @@ use crate::record::{Impact, RunEvent};
 use crate::scene::{Effects, Scene, SceneError};
 use crate::state::{ShotState, ShotStatus};
 use rayon::prelude::*;
-use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use rustc_hash::FxHashMap as HashMap;
 
 /// Longest synchronisation window, s.
 const MAX_WINDOW: f64 = 1e-4;
@@ -300,13 +300,11 @@ fn sub_window(
         .map(|m| inflated_radius(phys, m, a, b))
         .collect();
     let span = b - a;
-    // Members by local index (the union-find's nodes are then the members themselves).
-    let local: Vec<usize> = (0..n).collect();
     // The window's candidate test, by components: the kicked set spreads over the pairs
     // within absolute reach, so it is a union of their components, and a component is
     // kicked if a member may meet a wall, or a pair touches or closes by relative motion.
     // The pairs of a kicked component are linked; the members of the others fly apart.
-    let mut uf = LocalUnionFind::new(&local);
+    let mut uf = SlotUnionFind::new(n);
     let abs: Vec<bool> = pairs
         .iter()
         .map(|p| {
@@ -341,7 +339,7 @@ fn sub_window(
         .collect();
     loop {
         // Groups: members joined by linked pairs, in ascending order of their first member.
-        let mut uf = LocalUnionFind::new(&local);
+        let mut uf = SlotUnionFind::new(n);
         for (p, _) in pairs.iter().zip(&linked).filter(|x| *x.1) {
             uf.union(p.a as usize, p.b as usize);
         }
@@ -506,9 +504,6 @@ fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, t0: f64, t1: f64) -> b
         .is_some_and(|w| may_reach_tube(phys, s, &w.tube, reach, t0, t1));
     near_specimen || near_wall || s.on_specimen || s.on_wall
 }
-
-/// The candidate pairs (global ids) of one island.
-type IslandPairs = Vec<(u32, u32)>;
 
 /// What one island returns from a window. (The variants differ in size; boxing the
 /// larger one would cost an allocation per stepped island in every window.)
@@ -742,6 +737,14 @@ impl<T: Copy> ById<T> {
     }
 }
 
+impl<T> ById<T> {
+    /// Shot `i`'s entry, if the store holds `i`.
+    #[inline]
+    fn get(&self, i: usize) -> Option<&T> {
+        self.v.get(i.checked_sub(self.base)?)
+    }
+}
+
 impl<T> std::ops::Index<usize> for ById<T> {
     type Output = T;
     #[inline]
@@ -792,6 +795,8 @@ pub struct Simulation {
     /// Per-shot reach and kicked flags, reused across windows (entries of `live` only).
     reach_buf: ById<f64>,
     kicked_buf: ById<bool>,
+    /// Each shot's place in the window's `idx` (`u32::MAX` outside it).
+    slot_buf: ById<u32>,
     scheduler: Scheduler,
     /// Windows integrate their islands in parallel from this many shots taking steps.
     parallel_min_shots: usize,
@@ -974,6 +979,7 @@ impl Simulation {
             live: Vec::new(),
             reach_buf: ById::default(),
             kicked_buf: ById::default(),
+            slot_buf: ById::default(),
             scheduler: Scheduler::Auto,
             parallel_min_shots: PARALLEL_MIN_SHOTS,
             lean_contacts: true,
@@ -1396,9 +1402,9 @@ impl Simulation {
             .clamp(MIN_WINDOW, MAX_WINDOW)
     }
 
-    /// Runs one synchronisation window `[self.t, t1]`.
-    /// Candidate pairs for the window `[t0, t1]` out of `widest` (pairs found with the
-    /// absolute reach of a longer window), given each shot's absolute reach `reach`.
+    /// Candidate pairs (sorted) for the window `[t0, t1]` out of `widest` (pairs found
+    /// with the absolute reach of a longer window, sorted), given the window's shots
+    /// `idx` (ascending; `slot` their places in it) and each shot's absolute reach `reach`.
     ///
     /// A shot that touches nothing during the window keeps its velocity up to body forces,
     /// so two such shots can only meet if their *relative* motion closes the gap:
@@ -1410,13 +1416,13 @@ impl Simulation {
     /// propagated through the absolute-reach pairs.
     fn refine_candidates(
         &self,
-        idx: &[usize],
-        widest: &HashSet<(u32, u32)>,
+        (idx, slot): (&[usize], &ById<u32>),
+        widest: &[(u32, u32)],
         reach: &ById<f64>,
         kicked: &mut ById<bool>,
         t0: f64,
         t1: f64,
-    ) -> HashSet<(u32, u32)> {
+    ) -> Vec<(u32, u32)> {
         let span = t1 - t0;
         let entered = |i: usize| self.shots[i].t_start < t1;
         // Pairs within absolute reach (and pairs in contact), both shots taking part.
@@ -1433,37 +1439,33 @@ impl Simulation {
             .collect();
         let closing =
             |a: usize, b: usize| closing(&self.physics, &self.shots[a], &self.shots[b], span);
-        for &i in idx {
-            kicked[i] = false;
-        }
-        let mut stack: Vec<usize> = Vec::new();
-        let mark = |i: usize, kicked: &mut ById<bool>, stack: &mut Vec<usize>| {
-            if !kicked[i] {
-                kicked[i] = true;
-                stack.push(i);
-            }
-        };
-        for &i in idx {
+        // The kicked set spreads over the pairs within absolute reach, so it is a union
+        // of their components: a component is kicked if a member may meet a wall, or a
+        // pair of it touches or closes by relative motion.
+        let n = idx.len();
+        let mut uf = SlotUnionFind::new(n);
+        let mut seed = vec![false; n];
+        for (k, &i) in idx.iter().enumerate() {
             let s = &self.shots[i];
-            if s.is_active() && entered(i) && near_a_wall(&self.physics, s, reach[i], t0, t1) {
-                mark(i, kicked, &mut stack);
-            }
+            seed[k] =
+                s.is_active() && entered(i) && near_a_wall(&self.physics, s, reach[i], t0, t1);
         }
-        let mut adjacency: HashMap<u32, Vec<u32>> = HashMap::default();
         for &(a, b) in &abs {
+            let (ka, kb) = (slot[a as usize] as usize, slot[b as usize] as usize);
             if self.pairs.contains_key(&(a, b)) || closing(a as usize, b as usize) {
-                mark(a as usize, kicked, &mut stack);
-                mark(b as usize, kicked, &mut stack);
+                seed[ka] = true;
+                seed[kb] = true;
             }
-            adjacency.entry(a).or_default().push(b);
-            adjacency.entry(b).or_default().push(a);
+            uf.union(ka, kb);
         }
-        while let Some(i) = stack.pop() {
-            if let Some(nb) = adjacency.get(&(i as u32)) {
-                for &j in nb {
-                    mark(j as usize, kicked, &mut stack);
-                }
+        let mut root_kicked = vec![false; n];
+        for k in 0..n {
+            if seed[k] {
+                root_kicked[uf.find(k)] = true;
             }
+        }
+        for (k, &i) in idx.iter().enumerate() {
+            kicked[i] = root_kicked[uf.find(k)];
         }
         abs.into_iter()
             .filter(|&(a, b)| {
@@ -1472,25 +1474,25 @@ impl Simulation {
             .collect()
     }
 
-    /// Candidate pairs (global ids) for a window: the shots `idx` with their
+    /// Candidate pairs (global ids, sorted) for a window: the shots `idx` with their
     /// reach-inflated radii `reach` ([`Simulation::inflated_radius`]), plus every pair in
     /// contact.
-    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> HashSet<(u32, u32)> {
+    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> Vec<(u32, u32)> {
         let centres: Vec<Vec3> = idx.iter().map(|&i| self.shots[i].pos).collect();
         let inflated: Vec<f64> = idx.iter().map(|&i| reach[i]).collect();
         self.work.neighbour_searches += 1;
-        let mut candidates: HashSet<(u32, u32)> = self
+        // Shot ids are their indices and `idx` ascends: the pairs stay sorted.
+        let mut candidates: Vec<(u32, u32)> = self
             .cells
-            .pairs(&centres, &inflated)
+            .pairs_tracked(&centres, &inflated, idx)
             .into_iter()
-            .map(|(a, b)| {
-                (
-                    self.shots[idx[a as usize]].id.0,
-                    self.shots[idx[b as usize]].id.0,
-                )
-            })
+            .map(|(a, b)| (idx[a as usize] as u32, idx[b as usize] as u32))
             .collect();
-        candidates.extend(self.pairs.keys().copied());
+        if !self.pairs.is_empty() {
+            candidates.extend(self.pairs.keys().copied());
+            candidates.sort_unstable();
+            candidates.dedup();
+        }
         candidates
     }
 
@@ -1521,8 +1523,10 @@ impl Simulation {
         }
         let mut reach = std::mem::take(&mut self.reach_buf);
         let mut kicked = std::mem::take(&mut self.kicked_buf);
+        let mut slot = std::mem::take(&mut self.slot_buf);
         reach.reset(&self.shots, 0.0);
         kicked.reset(&self.shots, false);
+        slot.reset(&self.shots, u32::MAX);
         for &i in &all {
             reach[i] = inflated_radius(&self.physics, &self.shots[i], t0, t1);
         }
@@ -1542,17 +1546,21 @@ impl Simulation {
                 }
                 reach_t1 = t1;
             }
-            let candidates = self.refine_candidates(&idx, &widest, &reach, &mut kicked, t0, t1);
+            for (k, &i) in idx.iter().enumerate() {
+                slot[i] = k as u32;
+            }
+            let candidates =
+                self.refine_candidates((&idx, &slot), &widest, &reach, &mut kicked, t0, t1);
             // With the fixed-step method an island's size costs nothing (every shot
             // takes the same step anyway): islands are not split.
             if matches!(self.physics.method, Method::Verlet { .. }) {
                 break (idx, candidates);
             }
-            let largest = self.largest_island(&idx, candidates.iter());
+            let largest = largest_island(&idx, &slot, candidates.iter());
             // Stop when islands are small, when they are mostly held together by contacts
             // in progress (shrinking cannot split those), or at the shortest window.
             let contact =
-                *contact.get_or_insert_with(|| self.largest_island(&idx, self.pairs.keys()));
+                *contact.get_or_insert_with(|| largest_island(&idx, &slot, self.pairs.keys()));
             if largest <= MAX_ISLAND.max(2 * contact) || t1 - t0 <= 4.0 * MIN_WINDOW {
                 break (idx, candidates);
             }
@@ -1561,19 +1569,15 @@ impl Simulation {
         self.reach_buf = reach;
         self.kicked_buf = kicked;
         loop {
-            let (islands, results) = self.integrate_islands(&idx, &candidates, t0, t1);
+            let islands = Islands::form(&idx, &slot, &candidates);
+            let results = self.integrate_islands(&islands, t0, t1);
             // Verify: an overlap at the window end between shots that were not paired
             // means the reach bound was beaten (e.g. a shot kicked by a collision).
             let ends: Vec<Vec3> = {
-                // `idx` is ascending: each member's slot by binary search (no per-window
-                // array over every shot fed).
                 let mut pos = vec![Vec3::zeros(); idx.len()];
-                for (isl, result) in islands.iter().zip(&results) {
+                for ((isl, _), result) in islands.iter().zip(&results) {
                     for (k, &gi) in isl.iter().enumerate() {
-                        let slot = idx
-                            .binary_search(&gi)
-                            .expect("BUG: island member outside idx");
-                        pos[slot] = match result {
+                        pos[slot[gi] as usize] = match result {
                             IslandResult::Kept(kept) => kept.pos(),
                             IslandResult::Stepped(members, ..) => members[k].pos,
                         };
@@ -1606,16 +1610,18 @@ impl Simulation {
                         self.shots[idx[b as usize]].id.0,
                     )
                 })
-                .filter(|p| !candidates.contains(p))
+                .filter(|p| candidates.binary_search(p).is_err())
                 .collect();
             if !missed.is_empty() {
                 self.window_redos += 1;
                 candidates.extend(missed);
+                candidates.sort_unstable();
                 continue;
             }
             self.commit_islands(&islands, results);
             break;
         }
+        self.slot_buf = slot;
         let shots = &self.shots;
         let stopped = &mut self.stopped;
         self.live.retain(|&i| {
@@ -1630,73 +1636,13 @@ impl Simulation {
         t1
     }
 
-    /// Size of the largest connected group of `idx` under `pairs` (union-find only).
-    fn largest_island<'a>(
-        &self,
-        idx: &[usize],
-        pairs: impl Iterator<Item = &'a (u32, u32)>,
-    ) -> usize {
-        let mut uf = LocalUnionFind::new(idx);
-        for &(a, b) in pairs {
-            uf.union(a as usize, b as usize);
-        }
-        let mut size = vec![0u32; uf.parent.len()];
-        let mut largest = 0;
-        for k in 0..idx.len() {
-            let r = uf.find(k);
-            size[r] += 1;
-            largest = largest.max(size[r] as usize);
-        }
-        largest
-    }
-
-    /// Islands: connected groups of `idx` under the `candidates` pairs (union-find),
-    /// ordered by their smallest shot id, with their pairs sorted.
-    fn form_islands(
-        &self,
-        idx: &[usize],
-        candidates: &HashSet<(u32, u32)>,
-    ) -> (Vec<Vec<usize>>, Vec<IslandPairs>) {
-        let mut uf = LocalUnionFind::new(idx);
-        let mut sorted: Vec<(u32, u32)> = candidates.iter().copied().collect();
-        sorted.sort_unstable();
-        for &(a, b) in &sorted {
-            uf.union(a as usize, b as usize);
-        }
-        let mut by_root: HashMap<usize, usize> = HashMap::default();
-        let mut islands: Vec<Vec<usize>> = Vec::new();
-        for (k, &i) in idx.iter().enumerate() {
-            let r = uf.find(k);
-            let slot = *by_root.entry(r).or_insert_with(|| {
-                islands.push(Vec::new());
-                islands.len() - 1
-            });
-            islands[slot].push(i);
-        }
-        let mut island_pairs: Vec<Vec<(u32, u32)>> = vec![Vec::new(); islands.len()];
-        for &(a, b) in &sorted {
-            let r = uf.find_global(a as usize);
-            if let Some(&k) = by_root.get(&r) {
-                island_pairs[k].push((a, b));
-            }
-        }
-        (islands, island_pairs)
-    }
-
-    fn integrate_islands(
-        &self,
-        idx: &[usize],
-        candidates: &HashSet<(u32, u32)>,
-        t0: f64,
-        t1: f64,
-    ) -> (Vec<Vec<usize>>, Vec<IslandResult>) {
-        let (islands, island_pairs) = self.form_islands(idx, candidates);
+    fn integrate_islands(&self, islands: &Islands, t0: f64, t1: f64) -> Vec<IslandResult> {
         let phys = &self.physics;
         let snap = self.snapshot_interval;
-        let run = |scratch: &mut Scratch, (members_idx, gpairs): (&Vec<usize>, &IslandPairs)| {
+        let run = |scratch: &mut Scratch, (members_idx, gpairs): (&[usize], &[(u32, u32)])| {
             // A lone shot whose kept step covers the window only reads its state there
             // (`island::advance_alone` would do the same on a copy of it).
-            if let ([i], [], None) = (&members_idx[..], &gpairs[..], snap)
+            if let ([i], [], None) = (members_idx, gpairs, snap)
                 && let Some(kept) = island::Kept::read(phys, &self.shots[*i], t1)
             {
                 return IslandResult::Kept(kept);
@@ -1757,7 +1703,6 @@ impl Simulation {
         // reads its state from it).
         let busy: usize = islands
             .iter()
-            .zip(&island_pairs)
             .filter(|(isl, pairs)| {
                 isl.len() > 1
                     || !pairs.is_empty()
@@ -1768,26 +1713,19 @@ impl Simulation {
             })
             .map(|(isl, _)| isl.len())
             .sum();
-        let results: Vec<IslandResult> =
-            if rayon::current_num_threads() == 1 || busy < self.parallel_min_shots {
-                let mut scratch = Scratch::default();
-                islands
-                    .iter()
-                    .zip(&island_pairs)
-                    .map(|x| run(&mut scratch, x))
-                    .collect()
-            } else {
-                islands
-                    .par_iter()
-                    .zip(island_pairs.par_iter())
-                    .map_init(Scratch::default, run)
-                    .collect()
-            };
-        (islands, results)
+        if rayon::current_num_threads() == 1 || busy < self.parallel_min_shots {
+            let mut scratch = Scratch::default();
+            islands.iter().map(|x| run(&mut scratch, x)).collect()
+        } else {
+            (0..islands.len())
+                .into_par_iter()
+                .map_init(Scratch::default, |scratch, k| run(scratch, islands.get(k)))
+                .collect()
+        }
     }
 
-    fn commit_islands(&mut self, islands: &[Vec<usize>], results: Vec<IslandResult>) {
-        for (isl, result) in islands.iter().zip(results) {
+    fn commit_islands(&mut self, islands: &Islands, results: Vec<IslandResult>) {
+        for ((isl, _), result) in islands.iter().zip(results) {
             let (members, pairs, out, pts) = match result {
                 IslandResult::Kept(kept) => {
                     kept.store(&mut self.shots[isl[0]]);
@@ -1832,74 +1770,161 @@ pub fn status_counts(shots: &[ShotState]) -> [(ShotStatus, usize); 3] {
     ]
 }
 
-/// Union-find over the shots of a window (`idx`, ascending global indices; node `k` is
-/// `idx[k]`), so its cost follows the shots in flight, not every shot fed. Endpoints
-/// outside `idx` get extra nodes. The root of a set is its smallest node, hence its
-/// smallest global index.
-struct LocalUnionFind<'a> {
-    idx: &'a [usize],
-    parent: Vec<usize>,
-    extra: HashMap<usize, usize>,
+/// Union-find over slots `0..n` (a window's shots by their place in its ascending
+/// `idx`, an island's members): the root of a set is its smallest slot, hence its
+/// smallest shot id.
+struct SlotUnionFind {
+    parent: Vec<u32>,
 }
 
-impl<'a> LocalUnionFind<'a> {
-    fn new(idx: &'a [usize]) -> Self {
-        LocalUnionFind {
-            idx,
-            parent: (0..idx.len()).collect(),
-            extra: HashMap::default(),
+impl SlotUnionFind {
+    fn new(n: usize) -> Self {
+        SlotUnionFind {
+            parent: (0..n as u32).collect(),
         }
     }
 
-    fn node(&mut self, global: usize) -> usize {
-        match self.idx.binary_search(&global) {
-            Ok(k) => k,
-            Err(_) => {
-                let next = self.parent.len();
-                let k = *self.extra.entry(global).or_insert(next);
-                if k == next {
-                    self.parent.push(next);
-                }
-                k
-            }
+    fn find(&mut self, x: usize) -> usize {
+        let mut x = x as u32;
+        while self.parent[x as usize] != x {
+            let up = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = up;
+            x = up;
         }
-    }
-
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-
-    fn find_global(&mut self, global: usize) -> usize {
-        let k = self.node(global);
-        self.find(k)
+        x as usize
     }
 
     fn union(&mut self, a: usize, b: usize) {
-        let (ka, kb) = (self.node(a), self.node(b));
-        let (ra, rb) = (self.find(ka), self.find(kb));
+        let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {
-            // Keep the root with the smallest global index (extra nodes rank by it too).
-            let g = |s: &Self, k: usize| {
-                if k < s.idx.len() {
-                    s.idx[k]
-                } else {
-                    *s.extra
-                        .iter()
-                        .find(|(_, v)| **v == k)
-                        .expect("BUG: extra node")
-                        .0
-                }
-            };
-            let (lo, hi) = if g(self, ra) < g(self, rb) {
-                (ra, rb)
-            } else {
-                (rb, ra)
-            };
-            self.parent[hi] = lo;
+            self.parent[ra.max(rb)] = ra.min(rb) as u32;
         }
+    }
+}
+
+/// The slot of shot `g` in a window's `idx` (the candidate pairs' shots all take part).
+#[inline]
+fn slot_of(slot: &ById<u32>, g: u32) -> usize {
+    let k = slot[g as usize];
+    assert!(
+        k != u32::MAX,
+        "BUG: a candidate pair's shot outside the window"
+    );
+    k as usize
+}
+
+/// Size of the largest connected group of `idx` under `pairs` (union-find only). A
+/// pair's shot outside `idx` (a contact of a shot held back at the inlet, entering after
+/// the window) is a node of its own, which still links the shots it touches.
+fn largest_island<'a>(
+    idx: &[usize],
+    slot: &ById<u32>,
+    pairs: impl Iterator<Item = &'a (u32, u32)>,
+) -> usize {
+    let mut uf = SlotUnionFind::new(idx.len());
+    let mut extra: HashMap<u32, usize> = HashMap::default();
+    let mut node = |uf: &mut SlotUnionFind, g: u32| match slot.get(g as usize) {
+        Some(&k) if k != u32::MAX => k as usize,
+        _ => *extra.entry(g).or_insert_with(|| {
+            uf.parent.push(uf.parent.len() as u32);
+            uf.parent.len() - 1
+        }),
+    };
+    for &(a, b) in pairs {
+        let (ka, kb) = (node(&mut uf, a), node(&mut uf, b));
+        uf.union(ka, kb);
+    }
+    let mut size = vec![0u32; idx.len()];
+    let mut largest = 0;
+    for k in 0..idx.len() {
+        let r = uf.find(k);
+        size[r] += 1;
+        largest = largest.max(size[r] as usize);
+    }
+    largest
+}
+
+/// A window's islands: the connected groups of its shots under the candidate pairs,
+/// ordered by their smallest shot id, each with its members (ascending) and its pairs
+/// (sorted), stored flat (no allocation per island: most are lone shots).
+struct Islands {
+    members: Vec<usize>,
+    starts: Vec<u32>,
+    pairs: Vec<(u32, u32)>,
+    pair_starts: Vec<u32>,
+}
+
+impl Islands {
+    /// The islands of `idx` (ascending; `slot` its inverse) under `candidates`
+    /// (sorted, both shots in `idx`).
+    fn form(idx: &[usize], slot: &ById<u32>, candidates: &[(u32, u32)]) -> Self {
+        let n = idx.len();
+        let mut uf = SlotUnionFind::new(n);
+        for &(a, b) in candidates {
+            uf.union(slot_of(slot, a), slot_of(slot, b));
+        }
+        // Islands numbered as their smallest slot comes up; members by counting sort.
+        let mut of_root = vec![u32::MAX; n];
+        let mut island = vec![0u32; n];
+        let mut count = 0u32;
+        let mut starts = vec![0u32];
+        for k in 0..n {
+            let r = uf.find(k);
+            if of_root[r] == u32::MAX {
+                of_root[r] = count;
+                count += 1;
+                starts.push(0);
+            }
+            island[k] = of_root[r];
+            starts[island[k] as usize + 1] += 1;
+        }
+        for c in 0..count as usize {
+            starts[c + 1] += starts[c];
+        }
+        let mut members = vec![0usize; n];
+        let mut fill = starts.clone();
+        for (k, &i) in idx.iter().enumerate() {
+            let c = island[k] as usize;
+            members[fill[c] as usize] = i;
+            fill[c] += 1;
+        }
+        let mut pair_starts = vec![0u32; count as usize + 1];
+        for &(a, _) in candidates {
+            pair_starts[island[slot_of(slot, a)] as usize + 1] += 1;
+        }
+        for c in 0..count as usize {
+            pair_starts[c + 1] += pair_starts[c];
+        }
+        let mut pairs = vec![(0u32, 0u32); candidates.len()];
+        let mut fill = pair_starts.clone();
+        for &p in candidates {
+            let c = island[slot_of(slot, p.0)] as usize;
+            pairs[fill[c] as usize] = p;
+            fill[c] += 1;
+        }
+        Islands {
+            members,
+            starts,
+            pairs,
+            pair_starts,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    /// Island `k`'s members and pairs.
+    fn get(&self, k: usize) -> (&[usize], &[(u32, u32)]) {
+        let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+        let (c, d) = (
+            self.pair_starts[k] as usize,
+            self.pair_starts[k + 1] as usize,
+        );
+        (&self.members[a..b], &self.pairs[c..d])
+    }
+
+    fn iter(&self) -> impl Iterator<Item = (&[usize], &[(u32, u32)])> {
+        (0..self.len()).map(|k| self.get(k))
     }
 }

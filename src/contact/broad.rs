@@ -150,21 +150,85 @@ pub struct CellList {
     coarse: Bins,
     /// Sweep order: the low end of each item's interval on the sweep axis, and the item.
     sweep: Vec<(f64, u32)>,
+    /// The last tracked call's sweep ([`CellList::pairs_tracked`]).
+    track: Track,
     /// Whether the last call swept (for tests).
     swept: bool,
+    /// Whether the last call's sweep order came from the previous one's (for tests).
+    reused: bool,
+}
+
+/// A tracked call's sweep axis, its items' ids (ascending) and their sweep order (by
+/// item), from which the next tracked call starts its own.
+#[derive(Debug, Default, Clone)]
+struct Track {
+    axis: Option<usize>,
+    ids: Vec<usize>,
+    order: Vec<u32>,
+}
+
+/// Strict order of sweep entries: interval start, then item.
+#[inline]
+fn sweep_less(a: &(f64, u32), b: &(f64, u32)) -> bool {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt()
+}
+
+/// Sorts an almost sorted `v` by insertion; gives up (returning `false`, `v` then a
+/// permutation of itself) after `budget` moves.
+fn insertion_sort(v: &mut [(f64, u32)], budget: usize) -> bool {
+    let mut moves = 0;
+    for k in 1..v.len() {
+        let x = v[k];
+        let mut j = k;
+        while j > 0 && sweep_less(&x, &v[j - 1]) {
+            v[j] = v[j - 1];
+            j -= 1;
+            moves += 1;
+            if moves > budget {
+                v[j] = x;
+                return false;
+            }
+        }
+        v[j] = x;
+    }
+    true
 }
 
 impl CellList {
     /// All pairs `(i, j)`, `i < j`, with `|x_i - x_j| < r_i + r_j`, sorted.
     /// `centres` and `radii` are indexed alike.
     pub fn pairs(&mut self, centres: &[Vec3], radii: &[f64]) -> Vec<(u32, u32)> {
+        self.pairs_of(centres, radii, None)
+    }
+
+    /// [`CellList::pairs`] for items with ids `ids` (ascending, indexed alike) that move
+    /// little from one call to the next (a window scheduler's shots): a sweep starts
+    /// from the previous tracked call's order, sorted again by insertion (the same
+    /// order, and so the same pairs, at a fraction of a full sort's cost).
+    pub fn pairs_tracked(
+        &mut self,
+        centres: &[Vec3],
+        radii: &[f64],
+        ids: &[usize],
+    ) -> Vec<(u32, u32)> {
+        debug_assert!(ids.windows(2).all(|w| w[0] < w[1]));
+        self.pairs_of(centres, radii, Some(ids))
+    }
+
+    fn pairs_of(
+        &mut self,
+        centres: &[Vec3],
+        radii: &[f64],
+        ids: Option<&[usize]>,
+    ) -> Vec<(u32, u32)> {
         let n = centres.len();
         let mut out = Vec::new();
         self.swept = false;
+        self.reused = false;
         if n < 2 {
             return out;
         }
-        if self.sweep_pairs(centres, radii, &mut out) {
+        if self.sweep_pairs(centres, radii, ids, &mut out) {
             self.swept = true;
             out.sort_unstable();
             return out;
@@ -178,7 +242,13 @@ impl CellList {
     /// Sweep and prune along the axis the histogram estimate picks (module docs):
     /// appends every overlapping pair to `out` and returns `true`, or returns `false`
     /// (`out` then holds a part) if the layout does not suit a sweep.
-    fn sweep_pairs(&mut self, centres: &[Vec3], radii: &[f64], out: &mut Vec<(u32, u32)>) -> bool {
+    fn sweep_pairs(
+        &mut self,
+        centres: &[Vec3],
+        radii: &[f64],
+        ids: Option<&[usize]>,
+        out: &mut Vec<(u32, u32)>,
+    ) -> bool {
         let n = centres.len();
         let (mut lo, mut hi) = (centres[0], centres[0]);
         let mut r_sum = 0.0;
@@ -212,18 +282,55 @@ impl CellList {
         let (checks, axis) = best;
         let expected = checks / n as f64;
         if expected.is_nan() || expected > SWEEP_EXPECTED {
+            if ids.is_some() {
+                self.track.axis = None;
+            }
             return false;
         }
         let order = &mut self.sweep;
         order.clear();
-        order.extend(
-            centres
-                .iter()
-                .zip(radii)
-                .enumerate()
-                .map(|(i, (c, &r))| (c[axis] - r, i as u32)),
-        );
-        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let key = |i: usize| (centres[i][axis] - radii[i], i as u32);
+        if let Some(ids) = ids
+            && self.track.axis == Some(axis)
+        {
+            // The previous order, its items mapped to this call's (both id lists
+            // ascend), then the new items; sorted again by insertion.
+            let mut seen = vec![false; n];
+            let mut new_of_old = vec![u32::MAX; self.track.ids.len()];
+            let mut k = 0;
+            for (old, id) in self.track.ids.iter().enumerate() {
+                while k < n && ids[k] < *id {
+                    k += 1;
+                }
+                if k < n && ids[k] == *id {
+                    new_of_old[old] = k as u32;
+                    seen[k] = true;
+                }
+            }
+            order.extend(
+                self.track
+                    .order
+                    .iter()
+                    .map(|&old| new_of_old[old as usize])
+                    .filter(|&i| i != u32::MAX)
+                    .map(|i| key(i as usize)),
+            );
+            order.extend((0..n).filter(|&i| !seen[i]).map(key));
+            self.reused = insertion_sort(order, 4 * n + 64);
+        }
+        if !self.reused {
+            order.clear();
+            order.extend((0..n).map(key));
+            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        }
+        if let Some(ids) = ids {
+            let track = &mut self.track;
+            track.axis = Some(axis);
+            track.ids.clear();
+            track.ids.extend_from_slice(ids);
+            track.order.clear();
+            track.order.extend(order.iter().map(|&(_, i)| i));
+        }
         // Rounding of the interval ends must not lose a pair: a start counts as inside an
         // interval up to a slack far above the rounding and far below any radius.
         let slack = 1e-9 * (extent[axis] + lo[axis].abs() + hi[axis].abs());
