@@ -10,6 +10,9 @@
 //! empty cells, and a hashed one pays 27 lookups per item. When the intervals would
 //! overlap too many others (a bed, a compact cloud) the sweep is not tried, and a sweep
 //! that finds more than its budget of interval overlaps is abandoned for the cell list.
+//! Calls for items that move little from one call to the next (the window scheduler's
+//! shots, [`CellList::pairs_tracked`]) start the sort from the previous call's order and
+//! finish it by insertion: the same order and pairs, without a full sort per window.
 //!
 //! The cell list, in O(N) expected time.
 //! Each item is a centre and an inflated radius (shot radius plus how far it can move
@@ -556,5 +559,47 @@ mod tests {
                 &format!("trial {trial}: a bunched layout"),
             );
         }
+    }
+
+    #[test]
+    fn tracked_calls_reuse_the_previous_order_and_find_the_same_pairs() {
+        // A stream moving on between calls, shots leaving at one end and entering at the
+        // other: each tracked call starts from the previous order (sorted again by
+        // insertion) and finds exactly the brute-force pairs. A call whose items jumped
+        // far (the order reversed) gives up the insertion sort and still finds them.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
+        let (mut centres, radii) = cloud(
+            &mut rng,
+            400,
+            Vec3::new(-1.5e-3, -1.5e-3, 0.0),
+            Vec3::new(1.5e-3, 1.5e-3, 0.2),
+            23,
+        );
+        let mut ids: Vec<usize> = (0..400).collect();
+        let mut next = 400;
+        let mut cells = CellList::default();
+        for call in 0..12 {
+            let got = cells.pairs_tracked(&centres, &radii[..centres.len()], &ids);
+            assert_eq!(got, brute(&centres, &radii[..centres.len()]), "call {call}");
+            assert!(cells.swept, "call {call}: swept");
+            assert_eq!(cells.reused, call > 0, "call {call}: order reused");
+            // Move on by up to a diameter, drop the three oldest, add three new ones.
+            for c in centres.iter_mut() {
+                c.z += rng.random_range(-2e-3..2e-3);
+            }
+            centres.drain(..3);
+            ids.drain(..3);
+            for _ in 0..3 {
+                centres.push(Vec3::new(0.0, 0.0, rng.random_range(0.0..0.2)));
+                ids.push(next);
+                next += 1;
+            }
+        }
+        for c in centres.iter_mut() {
+            c.z = 0.2 - c.z;
+        }
+        let got = cells.pairs_tracked(&centres, &radii[..centres.len()], &ids);
+        assert_eq!(got, brute(&centres, &radii[..centres.len()]), "reversed");
+        assert!(cells.swept && !cells.reused, "reversed: a full sort");
     }
 }
