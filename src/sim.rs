@@ -295,9 +295,11 @@ fn sub_window(
 ) -> Vec<(u64, SnapshotPoint)> {
     let n = members.len();
     let on = |m: &ShotState| m.is_active();
+    let acc: Vec<f64> = members.iter().map(|m| body_acc(phys, m)).collect();
     let reach: Vec<f64> = members
         .iter()
-        .map(|m| inflated_radius(phys, m, a, b))
+        .zip(&acc)
+        .map(|(m, &acc)| inflated_radius(m, acc, a, b))
         .collect();
     let span = b - a;
     // The window's candidate test, by components: the kicked set spreads over the pairs
@@ -320,14 +322,18 @@ fn sub_window(
     let mut kicked = vec![false; n];
     for i in 0..n {
         // A member the window did not take as kicked meets no wall in any part of it.
-        if may_kick[i] && on(&members[i]) && near_a_wall(phys, &members[i], reach[i], a, b) {
+        if may_kick[i] && on(&members[i]) && near_a_wall(phys, &members[i], reach[i], acc[i], a, b)
+        {
             kicked[uf.find(i)] = true;
         }
     }
     for (p, _) in pairs.iter().zip(&abs).filter(|x| *x.1) {
         let r = uf.find(p.a as usize);
         if !kicked[r]
-            && (p.touching || closing(phys, &members[p.a as usize], &members[p.b as usize], span))
+            && (p.touching || {
+                let (i, j) = (p.a as usize, p.b as usize);
+                closing(&members[i], &members[j], acc[i] + acc[j], span)
+            })
         {
             kicked[r] = true;
         }
@@ -430,18 +436,28 @@ fn sub_window(
     }
 }
 
-/// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
-/// margin for collision kicks) times span plus the body-force bound.
+/// The body-force acceleration bound of shot `s` over a window: at its speed with a 1.5
+/// margin for collision kicks, plus 1 m/s ([`ForceSet::acceleration_bound`]); computed
+/// once per shot and window, for its reach, its tube test and its pairs' closing test.
+///
+/// [`ForceSet::acceleration_bound`]: crate::forces::ForceSet::acceleration_bound
 #[inline]
-fn inflated_radius(phys: &Physics, s: &ShotState, t0: f64, t1: f64) -> f64 {
+fn body_acc(phys: &Physics, s: &ShotState) -> f64 {
+    phys.forces
+        .acceleration_bound(&s.body, 1.5 * s.vel.norm() + 1.0)
+}
+
+/// Radius of `s` plus how far it can move between `t0` and `t1`: speed (with a 1.5
+/// margin for collision kicks) times span plus the body-force bound `a` ([`body_acc`]).
+#[inline]
+fn inflated_radius(s: &ShotState, a: f64, t0: f64, t1: f64) -> f64 {
     let span = (t1 - s.t_start.max(t0)).max(0.0);
     let speed = 1.5 * s.vel.norm();
-    let a = phys.forces.acceleration_bound(&s.body, speed + 1.0);
     s.body.radius + speed * span + 0.5 * a * span * span + 1e-9
 }
 
 /// Whether shot `s`, whose reach over the window `t0..t1` is `reach`
-/// ([`inflated_radius`]), may touch the nozzle tube in it. Beside the tube
+/// ([`inflated_radius`]; `a` its [`body_acc`]), may touch the nozzle tube in it. Beside the tube
 /// the gap decides. A shot more than a radius beyond either end, where
 /// [`Tube::geometry`](crate::contact::Tube::geometry) says `None`, may still reach
 /// that end (the exit's lip or face) within the window: it does if its distance along
@@ -451,10 +467,10 @@ fn inflated_radius(phys: &Physics, s: &ShotState, t0: f64, t1: f64) -> f64 {
 /// run through). Shots leaving the exit are not: their distance along the axis grows.
 #[inline]
 fn may_reach_tube(
-    phys: &Physics,
     s: &ShotState,
     tube: &crate::contact::Tube,
     reach: f64,
+    a: f64,
     t0: f64,
     t1: f64,
 ) -> bool {
@@ -463,9 +479,6 @@ fn may_reach_tube(
         return g.gap < reach - r;
     }
     let span = (t1 - s.t_start.max(t0)).max(0.0);
-    let a = phys
-        .forces
-        .acceleration_bound(&s.body, 1.5 * s.vel.norm() + 1.0);
     let along = (s.pos - tube.exit).dot(&tube.axis);
     let v_along = s.vel.dot(&tube.axis);
     // Beyond the exit (downstream) the distance is `along`; beyond the inlet it is
@@ -480,28 +493,24 @@ fn may_reach_tube(
 }
 
 /// Whether shots `sa` and `sb`, flying on body forces alone, can close their gap within
-/// `span` by their relative motion (`gap < |v_a - v_b| span + (a_a + a_b) span^2 / 2`).
+/// `span` by their relative motion (`gap < |v_a - v_b| span + (a_a + a_b) span^2 / 2`;
+/// `acc` is `a_a + a_b`, each [`body_acc`]).
 #[inline]
-fn closing(phys: &Physics, sa: &ShotState, sb: &ShotState, span: f64) -> bool {
+fn closing(sa: &ShotState, sb: &ShotState, acc: f64, span: f64) -> bool {
     let gap = (sa.pos - sb.pos).norm() - sa.body.radius - sb.body.radius;
-    let acc = phys
-        .forces
-        .acceleration_bound(&sa.body, 1.5 * sa.vel.norm() + 1.0)
-        + phys
-            .forces
-            .acceleration_bound(&sb.body, 1.5 * sb.vel.norm() + 1.0);
     gap < (sa.vel - sb.vel).norm() * span + 0.5 * acc * span * span + 1e-9
 }
 
 /// Whether shot `s`, whose reach over `t0..t1` is `reach`, may be kicked by the specimen
-/// or the nozzle tube in that span (or is in contact with either).
+/// or the nozzle tube in that span (or is in contact with either); `a` is its
+/// [`body_acc`].
 #[inline]
-fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, t0: f64, t1: f64) -> bool {
+fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, a: f64, t0: f64, t1: f64) -> bool {
     let near_specimen = phys.contacts.specimen.is_some() && s.pos.z < reach;
     let near_wall = phys
         .contacts
         .wall
-        .is_some_and(|w| may_reach_tube(phys, s, &w.tube, reach, t0, t1));
+        .is_some_and(|w| may_reach_tube(s, &w.tube, reach, a, t0, t1));
     near_specimen || near_wall || s.on_specimen || s.on_wall
 }
 
@@ -797,6 +806,8 @@ pub struct Simulation {
     kicked_buf: ById<bool>,
     /// Each shot's place in the window's `idx` (`u32::MAX` outside it).
     slot_buf: ById<u32>,
+    /// Each shot's body-force acceleration bound for the window ([`body_acc`]).
+    acc_buf: ById<f64>,
     scheduler: Scheduler,
     /// Windows integrate their islands in parallel from this many shots taking steps.
     parallel_min_shots: usize,
@@ -980,6 +991,7 @@ impl Simulation {
             reach_buf: ById::default(),
             kicked_buf: ById::default(),
             slot_buf: ById::default(),
+            acc_buf: ById::default(),
             scheduler: Scheduler::Auto,
             parallel_min_shots: PARALLEL_MIN_SHOTS,
             lean_contacts: true,
@@ -1418,7 +1430,7 @@ impl Simulation {
         &self,
         (idx, slot): (&[usize], &ById<u32>),
         widest: &[(u32, u32)],
-        reach: &ById<f64>,
+        (reach, acc): (&ById<f64>, &ById<f64>),
         kicked: &mut ById<bool>,
         t0: f64,
         t1: f64,
@@ -1438,7 +1450,7 @@ impl Simulation {
             })
             .collect();
         let closing =
-            |a: usize, b: usize| closing(&self.physics, &self.shots[a], &self.shots[b], span);
+            |a: usize, b: usize| closing(&self.shots[a], &self.shots[b], acc[a] + acc[b], span);
         // The kicked set spreads over the pairs within absolute reach, so it is a union
         // of their components: a component is kicked if a member may meet a wall, or a
         // pair of it touches or closes by relative motion.
@@ -1447,8 +1459,9 @@ impl Simulation {
         let mut seed = vec![false; n];
         for (k, &i) in idx.iter().enumerate() {
             let s = &self.shots[i];
-            seed[k] =
-                s.is_active() && entered(i) && near_a_wall(&self.physics, s, reach[i], t0, t1);
+            seed[k] = s.is_active()
+                && entered(i)
+                && near_a_wall(&self.physics, s, reach[i], acc[i], t0, t1);
         }
         for &(a, b) in &abs {
             let (ka, kb) = (slot[a as usize] as usize, slot[b as usize] as usize);
@@ -1524,11 +1537,14 @@ impl Simulation {
         let mut reach = std::mem::take(&mut self.reach_buf);
         let mut kicked = std::mem::take(&mut self.kicked_buf);
         let mut slot = std::mem::take(&mut self.slot_buf);
+        let mut acc = std::mem::take(&mut self.acc_buf);
         reach.reset(&self.shots, 0.0);
+        acc.reset(&self.shots, 0.0);
         kicked.reset(&self.shots, false);
         slot.reset(&self.shots, u32::MAX);
         for &i in &all {
-            reach[i] = inflated_radius(&self.physics, &self.shots[i], t0, t1);
+            acc[i] = body_acc(&self.physics, &self.shots[i]);
+            reach[i] = inflated_radius(&self.shots[i], acc[i], t0, t1);
         }
         // Candidates for the longest window; shorter windows only need a subset of them.
         let widest = self.candidates(&all, &reach);
@@ -1542,7 +1558,7 @@ impl Simulation {
                 .collect();
             if t1 != reach_t1 {
                 for &i in &idx {
-                    reach[i] = inflated_radius(&self.physics, &self.shots[i], t0, t1);
+                    reach[i] = inflated_radius(&self.shots[i], acc[i], t0, t1);
                 }
                 reach_t1 = t1;
             }
@@ -1550,7 +1566,7 @@ impl Simulation {
                 slot[i] = k as u32;
             }
             let candidates =
-                self.refine_candidates((&idx, &slot), &widest, &reach, &mut kicked, t0, t1);
+                self.refine_candidates((&idx, &slot), &widest, (&reach, &acc), &mut kicked, t0, t1);
             // With the fixed-step method an island's size costs nothing (every shot
             // takes the same step anyway): islands are not split.
             if matches!(self.physics.method, Method::Verlet { .. }) {
@@ -1568,6 +1584,7 @@ impl Simulation {
         };
         self.reach_buf = reach;
         self.kicked_buf = kicked;
+        self.acc_buf = acc;
         loop {
             let islands = Islands::form(&idx, &slot, &candidates);
             let results = self.integrate_islands(&islands, t0, t1);
