@@ -453,6 +453,18 @@ mod tests {
         (centres, radii)
     }
 
+    /// A nozzle stream: 400 shots strung along 0.2 m in a 3 mm column, a few with large
+    /// reach (fast shots).
+    fn stream(rng: &mut rand_chacha::ChaCha8Rng) -> (Vec<Vec3>, Vec<f64>) {
+        cloud(
+            rng,
+            400,
+            Vec3::new(-1.5e-3, -1.5e-3, 0.0),
+            Vec3::new(1.5e-3, 1.5e-3, 0.2),
+            23,
+        )
+    }
+
     /// The public call's pairs, checked against brute force, and whether it swept.
     fn checked(
         cells: &mut CellList,
@@ -517,15 +529,8 @@ mod tests {
     fn a_stream_is_swept_and_a_bunched_layout_falls_back_to_cells() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         for trial in 0..20 {
-            // A nozzle stream: 400 shots strung along 0.2 m in a 3 mm column, a few with
-            // large reach (fast shots), interval ends landing on each other's starts.
-            let (mut centres, radii) = cloud(
-                &mut rng,
-                400,
-                Vec3::new(-1.5e-3, -1.5e-3, 0.0),
-                Vec3::new(1.5e-3, 1.5e-3, 0.2),
-                23,
-            );
+            // A nozzle stream, interval ends landing on each other's starts.
+            let (mut centres, radii) = stream(&mut rng);
             // Exact touching along the axis: item 2's interval starts where item 3's ends.
             centres[2] = Vec3::new(0.0, 0.0, 0.1);
             centres[3] = Vec3::new(0.0, 0.0, 0.1 - radii[2] - radii[3]);
@@ -568,13 +573,7 @@ mod tests {
         // insertion) and finds exactly the brute-force pairs. A call whose items jumped
         // far (the order reversed) gives up the insertion sort and still finds them.
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(13);
-        let (mut centres, radii) = cloud(
-            &mut rng,
-            400,
-            Vec3::new(-1.5e-3, -1.5e-3, 0.0),
-            Vec3::new(1.5e-3, 1.5e-3, 0.2),
-            23,
-        );
+        let (mut centres, radii) = stream(&mut rng);
         let mut ids: Vec<usize> = (0..400).collect();
         let mut next = 400;
         let mut cells = CellList::default();
