@@ -1562,6 +1562,11 @@ impl Simulation {
                 }
                 reach_t1 = t1;
             }
+            // Places in this (possibly shortened) window's `idx`; none for shots that
+            // enter after it.
+            for &i in &all {
+                slot[i] = u32::MAX;
+            }
             for (k, &i) in idx.iter().enumerate() {
                 slot[i] = k as u32;
             }
