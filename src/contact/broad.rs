@@ -170,10 +170,10 @@ struct Track {
     order: Vec<u32>,
 }
 
-/// Strict order of sweep entries: interval start, then item.
+/// Order of sweep entries: interval start, then item.
 #[inline]
-fn sweep_less(a: &(f64, u32), b: &(f64, u32)) -> bool {
-    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt()
+fn sweep_order(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
 }
 
 /// Sorts an almost sorted `v` by insertion; gives up (returning `false`, `v` then a
@@ -183,7 +183,7 @@ fn insertion_sort(v: &mut [(f64, u32)], budget: usize) -> bool {
     for k in 1..v.len() {
         let x = v[k];
         let mut j = k;
-        while j > 0 && sweep_less(&x, &v[j - 1]) {
+        while j > 0 && sweep_order(&x, &v[j - 1]).is_lt() {
             v[j] = v[j - 1];
             j -= 1;
             moves += 1;
@@ -324,7 +324,7 @@ impl CellList {
         if !self.reused {
             order.clear();
             order.extend((0..n).map(key));
-            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            order.sort_unstable_by(sweep_order);
         }
         if let Some(ids) = ids {
             let track = &mut self.track;
