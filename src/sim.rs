@@ -216,6 +216,7 @@ fn advance_island(
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     snapshot_interval: Option<f64>,
+    apart: bool,
 ) -> Vec<(u64, SnapshotPoint)> {
     let mut tap = snapshot_interval
         .map(|dt| SnapshotTap::new(dt, t0, members, phys.contacts.friction.is_some()));
@@ -226,10 +227,167 @@ fn advance_island(
     };
     if let ([m], []) = (&mut *members, &*pairs) {
         island::advance_alone(phys, m, t0, t1, scratch, out, &mut observe);
+    } else if apart
+        && let Some(points) = advance_apart(
+            phys,
+            members,
+            pairs,
+            (t0, t1),
+            scratch,
+            out,
+            snapshot_interval,
+        )
+    {
+        return points;
     } else {
         island::advance_observed(phys, members, pairs, t0, t1, scratch, out, &mut observe);
     }
     tap.map_or_else(Vec::new, |t| t.points)
+}
+
+/// One shot's path over a window: `(t, position, velocity)` after each step.
+type Path = Vec<(f64, Vec3, Vec3)>;
+
+/// Advances the members of an island on separate clocks, each as a lone shot
+/// (`island::advance_alone`: its own steps, kept across window ends), if no pair of them
+/// touches at `t0` and none comes into contact in the window: their paths (the steps'
+/// ends, chords in between widened by their error bound) are checked pair by pair
+/// afterwards. Shots that keep apart exert no force on one another, so each one's
+/// motion is what the island integrator would give it, to its own tolerance, for the
+/// steps its own accuracy needs instead of the island's smallest. Returns `None`, with
+/// the members as they were, if a pair touches, comes within contact, or a member is
+/// still to enter (entries are held against the members they would overlap); the
+/// caller then integrates the island as one. The steps of an attempt that failed are
+/// counted in `out.work`.
+#[allow(clippy::too_many_arguments)]
+fn advance_apart(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &[IslandPair],
+    (t0, t1): (f64, f64),
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    snapshot_interval: Option<f64>,
+) -> Option<Vec<(u64, SnapshotPoint)>> {
+    if !matches!(phys.method, Method::Adaptive)
+        || pairs.iter().any(|p| p.touching)
+        || members
+            .iter()
+            .any(|m| m.is_active() && m.t_start >= t0 && m.t_start > 0.0)
+    {
+        return None;
+    }
+    let saved: Vec<ShotState> = members.to_vec();
+    let spin = phys.contacts.friction.is_some();
+    let mut trial = IslandOutput::default();
+    let mut points = Vec::new();
+    let mut paths: Vec<Path> = Vec::with_capacity(members.len());
+    for m in members.iter_mut() {
+        let mut path: Path = vec![(t0, m.pos, m.vel)];
+        if m.is_active() {
+            let mut tap =
+                snapshot_interval.map(|dt| SnapshotTap::new(dt, t0, std::slice::from_ref(m), spin));
+            let mut observe = |t: f64, y: &[f64]| {
+                path.push((t, Vec3::new(y[0], y[1], y[2]), Vec3::new(y[3], y[4], y[5])));
+                if let Some(tap) = tap.as_mut() {
+                    tap.on_step(t, y);
+                }
+            };
+            island::advance_alone(phys, m, t0, t1, scratch, &mut trial, &mut observe);
+            if let Some(tap) = tap {
+                points.extend(tap.points);
+            }
+        }
+        paths.push(path);
+    }
+    let met = pairs.iter().any(|p| {
+        let (a, b) = (p.a as usize, p.b as usize);
+        saved[a].is_active()
+            && saved[b].is_active()
+            && !paths_keep_apart(
+                &paths[a],
+                &paths[b],
+                saved[a].body.radius + saved[b].body.radius,
+            )
+    });
+    if met {
+        members.clone_from_slice(&saved);
+        out.work.add(&trial.work);
+        return None;
+    }
+    out.impacts.extend(trial.impacts);
+    out.events.extend(trial.events);
+    out.work.add(&trial.work);
+    Some(points)
+}
+
+/// Whether two paths ([`Path`]) stay farther apart than `sigma` while both are known.
+/// Between samples `(t0, p0, v0)` and `(t1, p1, v1)` (`h = t1 - t0`, chord velocity
+/// `c = (p1 - p0) / h`) a path runs along the chord, off it by at most
+/// `h |v1 - v0| / 2 + h max(|v0 - c|, |v1 - c|) / 4`: the second term bounds the cubic
+/// through both ends' positions and velocities (exact for a constant acceleration `a`:
+/// `a h^2 / 8`), the first is as much again and more, for a path the cubic does not
+/// follow. A step's path is its Runge-Kutta step's, which the cubic follows to that
+/// step's accuracy. (A bound from the body forces' acceleration bound instead, which
+/// holds the air's full speed, came to a tenth of a millimetre over the bore's long
+/// steps: two shots falling side by side a tenth of a millimetre apart failed the check
+/// in every window.)
+fn paths_keep_apart(a: &Path, b: &Path, sigma: f64) -> bool {
+    let (Some(a_end), Some(b_end)) = (a.last(), b.last()) else {
+        return true;
+    };
+    let (mut t, t_end) = (a[0].0.max(b[0].0), a_end.0.min(b_end.0));
+    // A path's chord at `t` on its segment `k` (from sample `k` to `k + 1`) and that
+    // segment's error bound.
+    let chord = |p: &Path, k: usize, t: f64| -> Vec3 {
+        let (s0, s1) = (&p[k], &p[(k + 1).min(p.len() - 1)]);
+        let h = s1.0 - s0.0;
+        if h > 0.0 {
+            s0.1 + (s1.1 - s0.1) * ((t - s0.0) / h).clamp(0.0, 1.0)
+        } else {
+            s1.1
+        }
+    };
+    let dev = |p: &Path, k: usize| -> f64 {
+        let (s0, s1) = (&p[k], &p[(k + 1).min(p.len() - 1)]);
+        let h = s1.0 - s0.0;
+        if h <= 0.0 {
+            return 0.0;
+        }
+        let c = (s1.1 - s0.1) / h;
+        0.5 * h * (s1.2 - s0.2).norm() + 0.25 * h * (s0.2 - c).norm().max((s1.2 - c).norm())
+    };
+    // The segment holding `t` (the last one starting before it).
+    let seg = |p: &Path, t: f64| p.partition_point(|s| s.0 <= t).clamp(1, p.len()) - 1;
+    let (mut i, mut j) = (seg(a, t), seg(b, t));
+    if (chord(b, j, t) - chord(a, i, t)).norm() < sigma + dev(a, i) + dev(b, j) {
+        return false;
+    }
+    while t < t_end {
+        let next = |p: &Path, k: usize| p.get(k + 1).map_or(f64::INFINITY, |s| s.0);
+        let tn = next(a, i).min(next(b, j)).min(t_end);
+        if tn > t {
+            let d0 = chord(b, j, t) - chord(a, i, t);
+            let d1 = chord(b, j, tn) - chord(a, i, tn);
+            let margin = sigma + dev(a, i) + dev(b, j);
+            if crate::events::flight::closest_approach(&d0, &((d1 - d0) / (tn - t)), tn - t)
+                < margin
+            {
+                return false;
+            }
+        }
+        t = tn;
+        while i + 1 < a.len() - 1 && a[i + 1].0 <= t {
+            i += 1;
+        }
+        while j + 1 < b.len() - 1 && b[j + 1].0 <= t {
+            j += 1;
+        }
+        if tn == f64::INFINITY {
+            break;
+        }
+    }
+    true
 }
 
 /// Sub-windows an island's window is cut into (see [`advance_split`]). Measured on the
@@ -257,6 +415,7 @@ fn advance_split(
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     snapshot_interval: Option<f64>,
+    apart: bool,
 ) -> Vec<(u64, SnapshotPoint)> {
     let mut points = Vec::new();
     for k in 0..SPLIT_PARTS {
@@ -271,7 +430,7 @@ fn advance_split(
         );
         let snap = snapshot_interval;
         points.extend(sub_window(
-            phys, members, pairs, may_kick, span, scratch, out, snap,
+            phys, members, pairs, may_kick, span, scratch, out, snap, apart,
         ));
     }
     points
@@ -292,6 +451,7 @@ fn sub_window(
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     snapshot_interval: Option<f64>,
+    apart: bool,
 ) -> Vec<(u64, SnapshotPoint)> {
     let n = members.len();
     let on = |m: &ShotState| m.is_active();
@@ -390,7 +550,7 @@ fn sub_window(
             let mut gout = IslandOutput::default();
             let snap = snapshot_interval;
             points.extend(advance_island(
-                phys, &mut gm, &mut gp, a, b, scratch, &mut gout, snap,
+                phys, &mut gm, &mut gp, a, b, scratch, &mut gout, snap, apart,
             ));
             results.push((gm, gp, gout));
         }
@@ -815,6 +975,9 @@ pub struct Simulation {
     lean_contacts: bool,
     /// Islands of [`SPLIT_MIN`] or more shots run in sub-windows ([`advance_split`]).
     sub_windows: bool,
+    /// The members of an island that keep apart step on separate clocks
+    /// ([`advance_apart`]).
+    separate_clocks: bool,
     /// Told, during the run, what the caller should hear at once (see [`Self::with_notice`]).
     notice: Option<Notice>,
 }
@@ -946,6 +1109,14 @@ impl Simulation {
         self
     }
 
+    /// Whether the window scheduler steps the members of an island that keep apart on
+    /// separate clocks, checked afterwards (default), or on the island's one clock. For
+    /// comparisons: both integrate the same physics to the tolerance.
+    pub fn with_separate_clocks(mut self, on: bool) -> Self {
+        self.separate_clocks = on;
+        self
+    }
+
     /// Whether the event scheduler resolves lone frictionless contacts on its lean path
     /// (closed form and a two-body frame, `events::binary`; default) or every contact as
     /// an island. For comparisons: both resolve the same physics to the tolerance.
@@ -996,6 +1167,7 @@ impl Simulation {
             parallel_min_shots: PARALLEL_MIN_SHOTS,
             lean_contacts: true,
             sub_windows: true,
+            separate_clocks: true,
             notice: None,
             physics,
             shots: ShotStore::from_vec(shots),
@@ -1306,6 +1478,7 @@ impl Simulation {
                     scratch,
                     &mut out,
                     snap,
+                    false,
                 );
                 let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress(n as f64 / total);
@@ -1701,7 +1874,8 @@ impl Simulation {
             let pts = if split {
                 let kick: Vec<bool> = members_idx.iter().map(|&i| self.kicked_buf[i]).collect();
                 let (m, p) = (&mut members, &mut pairs);
-                advance_split(phys, m, p, &kick, (t0, t1), scratch, &mut out, snap)
+                let apart = self.separate_clocks;
+                advance_split(phys, m, p, &kick, (t0, t1), scratch, &mut out, snap, apart)
             } else {
                 advance_island(
                     phys,
@@ -1712,6 +1886,7 @@ impl Simulation {
                     scratch,
                     &mut out,
                     snap,
+                    self.separate_clocks,
                 )
             };
             let keyed = gpairs.iter().copied().zip(pairs).collect();
@@ -1948,5 +2123,97 @@ impl Islands {
 
     fn iter(&self) -> impl Iterator<Item = (&[usize], &[(u32, u32)])> {
         (0..self.len()).map(|k| self.get(k))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn path(samples: &[(f64, [f64; 3], [f64; 3])]) -> Path {
+        samples
+            .iter()
+            .map(|&(t, p, v)| (t, Vec3::from(p), Vec3::from(v)))
+            .collect()
+    }
+
+    #[test]
+    fn paths_that_cross_between_their_samples_meet() {
+        // Head-on along x, 10 apart at both samples' times... but they cross at t = 0.5.
+        let a = path(&[
+            (0.0, [-5.0, 0.0, 0.0], [10.0, 0.0, 0.0]),
+            (1.0, [5.0, 0.0, 0.0], [10.0, 0.0, 0.0]),
+        ]);
+        let b = path(&[
+            (0.0, [5.0, 0.0, 0.0], [-10.0, 0.0, 0.0]),
+            (1.0, [-5.0, 0.0, 0.0], [-10.0, 0.0, 0.0]),
+        ]);
+        assert!(!paths_keep_apart(&a, &b, 0.1));
+        // The same, 2 apart in y: they pass clear of a contact distance of 1.
+        let c = path(&[
+            (0.0, [5.0, 2.0, 0.0], [-10.0, 0.0, 0.0]),
+            (1.0, [-5.0, 2.0, 0.0], [-10.0, 0.0, 0.0]),
+        ]);
+        assert!(paths_keep_apart(&a, &c, 1.0));
+        assert!(!paths_keep_apart(&a, &c, 2.5));
+    }
+
+    #[test]
+    fn paths_sampled_at_different_times_are_compared_on_every_piece() {
+        // `a` turns at t = 0.5 (a sample of its own), towards `b`'s straight path.
+        let a = path(&[
+            (0.0, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+            (0.5, [0.5, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            (1.0, [0.5, 0.5, 0.0], [0.0, 1.0, 0.0]),
+        ]);
+        let b = path(&[
+            (0.0, [0.5, 0.6, 0.0], [0.0, 0.0, 0.0]),
+            (1.0, [0.5, 0.6, 0.0], [0.0, 0.0, 0.0]),
+        ]);
+        // Closest at t = 1: 0.1 apart (the chord error bound of a's corner piece is zero
+        // at its ends: its velocity is constant along it).
+        assert!(!paths_keep_apart(&a, &b, 0.2));
+        assert!(paths_keep_apart(&a, &b, 0.05));
+        // Only while both are known: `late`, known from t = 0.6, sits 0.3 from a's first
+        // piece (which, widened by its bound, would reach it) and 0.25 from its second.
+        let late = path(&[
+            (0.6, [0.25, 0.3, 0.0], [0.0, 0.0, 0.0]),
+            (1.0, [0.25, 0.3, 0.0], [0.0, 0.0, 0.0]),
+        ]);
+        assert!(paths_keep_apart(&a, &late, 0.2));
+        let all_along = path(&[
+            (0.0, [0.25, 0.3, 0.0], [0.0, 0.0, 0.0]),
+            (1.0, [0.25, 0.3, 0.0], [0.0, 0.0, 0.0]),
+        ]);
+        assert!(!paths_keep_apart(&a, &all_along, 0.2));
+    }
+
+    #[test]
+    fn a_curved_piece_is_widened_by_its_error_bound() {
+        // `a` goes out along x and comes back within one piece: x(t) = t - t^2, at the
+        // origin at both ends, 0.25 out at t = 0.5. `b` sits at x = 0.3: the chord says
+        // 0.3 apart, the path comes within 0.05.
+        let a = path(&[
+            (0.0, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+            (1.0, [0.0, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+        ]);
+        let b = path(&[
+            (0.0, [0.3, 0.0, 0.0], [0.0, 0.0, 0.0]),
+            (1.0, [0.3, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        ]);
+        assert!(!paths_keep_apart(&a, &b, 0.1));
+        // No change of velocity, but both ends' velocity off the chord's: the cubic
+        // through them, y(s) = h s (1 - s)(1 - 2 s), leaves the chord by up to 0.096
+        // (at s = 0.21) and comes within 0.26 of `near`, which the chord keeps 0.35 from.
+        let s = path(&[
+            (0.0, [0.0, 0.0, 0.0], [1.0, 1.0, 0.0]),
+            (1.0, [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]),
+        ]);
+        let near = path(&[
+            (0.0, [0.2, 0.35, 0.0], [0.0, 0.0, 0.0]),
+            (1.0, [0.2, 0.35, 0.0], [0.0, 0.0, 0.0]),
+        ]);
+        assert!(!paths_keep_apart(&s, &near, 0.3));
+        assert!(paths_keep_apart(&s, &near, 0.05));
     }
 }
