@@ -269,8 +269,14 @@ fn advance_apart(
     out: &mut IslandOutput,
     snapshot_interval: Option<f64>,
 ) -> Option<Vec<(u64, SnapshotPoint)>> {
+    // Members that overlap at `t0` without a contact on record yet (a bed's shots at
+    // the start) are in contact: not worth an attempt.
+    let overlap = |p: &IslandPair| {
+        let (a, b) = (&members[p.a as usize], &members[p.b as usize]);
+        a.is_active() && b.is_active() && (a.pos - b.pos).norm() < a.body.radius + b.body.radius
+    };
     if !matches!(phys.method, Method::Adaptive)
-        || pairs.iter().any(|p| p.touching)
+        || pairs.iter().any(|p| p.touching || overlap(p))
         || members
             .iter()
             .any(|m| m.is_active() && m.t_start >= t0 && m.t_start > 0.0)
