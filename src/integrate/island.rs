@@ -2040,8 +2040,6 @@ fn advance_adaptive(
             };
             let mut err_norm = err_norm;
             let mut passes = clear(y_new, g1);
-            // How far past the kept step's end the event may lie, if the step was cut.
-            let mut event_ahead: Option<f64> = None;
             if !passes && g1 < 0.0 && g0 > 0.0 {
                 // An event inside the step (a jet region's boundary, the specimen): a
                 // step that stops short of it may still run past the window end. Without
@@ -2087,7 +2085,6 @@ fn advance_adaptive(
                     let gb = ctx.event_margin(members, pairs, pushing, t + b, y_new);
                     if e <= 1.0 && clear(y_new, gb) {
                         (h, err_norm, passes) = (b, e, true);
-                        event_ahead = Some(hi - b);
                     }
                 }
             }
@@ -2114,15 +2111,6 @@ fn advance_adaptive(
             } else {
                 0.0
             });
-            // After a step cut short of an event, the next one need not run far past
-            // it: the event is found in that step (and its force, the specimen's, is
-            // not in its stages). Proposing the long step again had it rejected on
-            // error: on the 10,000-shot nozzle stream 260,000 of 418,000 error
-            // rejections; with the cap, 45 % fewer rejected trials and 6 % fewer
-            // right-hand sides (docs/performance.md, session 34).
-            if let Some(ahead) = event_ahead {
-                h_next = h_next.min(ahead);
-            }
             t = t1;
             observer(t, y);
             break;
