@@ -3,25 +3,14 @@
 //! region's boundary, the specimen) is cut short of it and kept, instead of ending at
 //! every window's end up to the event. Only the steps change.
 
+mod common;
+
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};
 
-/// A stream fed for `feed_ms`, run until `feed_ms` plus `tail_ms`.
-fn stream(rate_per_s: f64, (feed_ms, tail_ms): (f64, f64)) -> Scene {
-    let (duration_ms, end_ms) = (feed_ms, feed_ms + tail_ms);
-    let text = format!(
-        r#"
-title = "cut steps test"
-duration_ms = {end_ms}
-[shots.feed]
-type = "stream"
-rate_per_s = {rate_per_s}
-duration_ms = {duration_ms}
-entry_speed_m_s = 5.0
-arrivals = "regular"
-"#
-    );
-    Scene::from_toml(&text, "stream.toml").unwrap()
+/// A stream fed for `feed_ms`, run until `feed_ms` plus `tail_ms` (the default seed).
+fn stream(rate_per_s: f64, feed_tail_ms: (f64, f64)) -> Scene {
+    common::nozzle_stream("cut steps test", rate_per_s, feed_tail_ms, 1)
 }
 
 fn run(scene: &Scene) -> RunOutput {

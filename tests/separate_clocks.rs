@@ -13,22 +13,8 @@ use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};
 
 /// A stream fed for `feed_ms`, run until `feed_ms` plus `tail_ms`.
-fn stream(rate_per_s: f64, (feed_ms, tail_ms): (f64, f64), seed: u64) -> Scene {
-    let (duration_ms, end_ms) = (feed_ms, feed_ms + tail_ms);
-    let text = format!(
-        r#"
-title = "separate clocks test"
-seed = {seed}
-duration_ms = {end_ms}
-[shots.feed]
-type = "stream"
-rate_per_s = {rate_per_s}
-duration_ms = {duration_ms}
-entry_speed_m_s = 5.0
-arrivals = "regular"
-"#
-    );
-    Scene::from_toml(&text, "stream.toml").unwrap()
+fn stream(rate_per_s: f64, feed_tail_ms: (f64, f64), seed: u64) -> Scene {
+    common::nozzle_stream("separate clocks test", rate_per_s, feed_tail_ms, seed)
 }
 
 fn run(scene: &Scene, separate: bool) -> RunOutput {

@@ -11,20 +11,7 @@ use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};
 
 fn stream(duration_ms: f64, seed: u64) -> Scene {
-    let text = format!(
-        r#"
-title = "sub-window test"
-seed = {seed}
-duration_ms = {duration_ms}
-[shots.feed]
-type = "stream"
-rate_per_s = 40000.0
-duration_ms = {duration_ms}
-entry_speed_m_s = 5.0
-arrivals = "regular"
-"#
-    );
-    Scene::from_toml(&text, "stream.toml").unwrap()
+    common::nozzle_stream("sub-window test", 40_000.0, (duration_ms, 0.0), seed)
 }
 
 fn run(scene: &Scene, sub_windows: bool) -> RunOutput {

@@ -73,6 +73,21 @@ pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// A regular stream through the nozzle (the paper's jet; shots entering the bore at
+/// 5 m/s): `rate` shots/s fed for `feed_ms`, a run of `feed_ms + tail_ms`, `seed`.
+pub fn nozzle_stream(
+    title: &str,
+    rate: f64,
+    (feed_ms, tail_ms): (f64, f64),
+    seed: u64,
+) -> peenflow::scene::Scene {
+    let end_ms = feed_ms + tail_ms;
+    let text = format!(
+        "title = \"{title}\"\nseed = {seed}\nduration_ms = {end_ms}\n[shots.feed]\ntype = \"stream\"\nrate_per_s = {rate}\nduration_ms = {feed_ms}\nentry_speed_m_s = 5.0\narrivals = \"regular\"\n"
+    );
+    peenflow::scene::Scene::from_toml(&text, "stream.toml").unwrap()
+}
+
 /// A regular stream through the nozzle without shot-shot contact (the independent
 /// scheduler): `rate` shots/s entering at 5 m/s for `feed_ms`, a run of `run_ms`, and
 /// `extra` TOML appended (e.g. a `[friction]` table).
