@@ -255,10 +255,10 @@ type Path = Vec<(f64, Vec3, Vec3)>;
 /// afterwards. Shots that keep apart exert no force on one another, so each one's
 /// motion is what the island integrator would give it, to its own tolerance, for the
 /// steps its own accuracy needs instead of the island's smallest. Returns `None`, with
-/// the members as they were, if a pair touches, comes within contact, or a member is
-/// still to enter (entries are held against the members they would overlap); the
-/// caller then integrates the island as one. The steps of an attempt that failed are
-/// counted in `out.work`.
+/// the members as they were, if a pair touches or overlaps at `t0`, comes within
+/// contact, or a member is still to enter (entries are held against the members they
+/// would overlap); the caller then integrates the island as one. The steps of an
+/// attempt that failed are counted in `out.work`.
 #[allow(clippy::too_many_arguments)]
 fn advance_apart(
     phys: &Physics,
