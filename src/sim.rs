@@ -289,7 +289,9 @@ fn advance_apart(
     let mut points = Vec::new();
     let mut paths: Vec<Path> = Vec::with_capacity(members.len());
     for m in members.iter_mut() {
-        let mut path: Path = vec![(t0, m.pos, m.vel)];
+        // Room for a few steps: the path grows in the step loop.
+        let mut path: Path = Vec::with_capacity(8);
+        path.push((t0, m.pos, m.vel));
         if m.is_active() {
             let mut tap =
                 snapshot_interval.map(|dt| SnapshotTap::new(dt, t0, std::slice::from_ref(m), spin));
