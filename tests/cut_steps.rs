@@ -37,11 +37,12 @@ fn a_lone_shot_through_windows_takes_the_steps_of_a_run_without_them() {
             .collect()
     };
     let (single, windowed) = (flight(&alone)[0], flight(&four));
-    // Measured (session 32): 26 steps alone, 28-31 through windows (59-65 before the
-    // cut, window after window up to the bore's exit, each jet region's boundary and the
-    // specimen).
+    // Measured: 26 steps alone; through windows 59-65 before the cut (session 32:
+    // window after window up to the bore's exit, each jet region's boundary and the
+    // specimen), 28-31 with it, 31-34 since a kept step proposes the controller's own
+    // size (session 35: it no longer brings the bore's long step back after a cut).
     assert!(
-        windowed.iter().all(|&n| n <= single + single / 4),
+        windowed.iter().all(|&n| n * 100 <= single * 135),
         "steps to the first contact: {single} alone, {windowed:?} through windows"
     );
     // Same flight: the first shot's impact, to the integrator's tolerance. Measured:
