@@ -1606,7 +1606,9 @@ impl Simulation {
     /// absolute reach touches the specimen or the bore wall, or it is in a pair closing by
     /// relative motion, or in contact) may leave with any velocity, so its pairs use the
     /// absolute reach, and whoever it may hit may be kicked in turn: the kicked set is
-    /// propagated through the absolute-reach pairs.
+    /// propagated through the absolute-reach pairs. `kicked` is set for the shots in such
+    /// pairs only (a shot alone within its reach has no pair to keep, so its walls are
+    /// not tested: session 35, -2.2 % instructions on the nozzle stream).
     fn refine_candidates(
         &self,
         (idx, slot): (&[usize], &ById<u32>),
@@ -1637,10 +1639,19 @@ impl Simulation {
         // pair of it touches or closes by relative motion.
         let n = idx.len();
         let mut uf = SlotUnionFind::new(n);
+        // Only shots in a pair within absolute reach: a shot without one is an island of
+        // its own, whose wall contacts its integration locates, and its flag is read
+        // nowhere (the sub-windows' `may_kick` is for islands of three or more).
+        let mut paired = vec![false; n];
+        for &(a, b) in &abs {
+            paired[slot[a as usize] as usize] = true;
+            paired[slot[b as usize] as usize] = true;
+        }
         let mut seed = vec![false; n];
         for (k, &i) in idx.iter().enumerate() {
             let s = &self.shots[i];
-            seed[k] = s.is_active()
+            seed[k] = paired[k]
+                && s.is_active()
                 && entered(i)
                 && near_a_wall(&self.physics, s, reach[i], acc[i], t0, t1);
         }
