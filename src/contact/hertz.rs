@@ -50,6 +50,18 @@ impl HertzLaw {
         let dashpot = self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate;
         (spring + dashpot).max(0.0)
     }
+
+    /// [`HertzLaw::force`] without the clamp at zero (negative past the kink, still zero
+    /// once apart): for a step that starts with the contact pushing and is cut at its
+    /// kink, so that its stages see a smooth force.
+    #[inline]
+    pub fn force_unclamped(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
+        if overlap <= 0.0 {
+            return 0.0;
+        }
+        let sq = overlap.sqrt();
+        k * overlap * sq + self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate
+    }
 }
 
 impl HertzLaw {
