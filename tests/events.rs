@@ -555,10 +555,11 @@ fn a_pile_the_event_scheduler_cannot_verify_is_run_on_windows() {
     // the contact to be found late (the same pack with 3,000 shots stopped 752 of them,
     // overlapping by 129 % of an effective radius). It now gives up, and the run is the
     // window scheduler's, record for record, with the reason in the run's tail. (Whether
-    // a draw of this pack piles up so is chance: seeds 240-262 of it give up in about
-    // one case in eight. Seed 250 did until session 35's integration of contacts
-    // unclamped up to their kink; seed 242 does since, as do 253 and 259.)
-    let text = "seed = 242\nduration_ms = 0.15\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = 0.549\n[shots.feed]\ntype = \"box\"\ncount = 600\nmin_mm = [0.0, 0.0, 0.3]\nmax_mm = [9.231, 9.231, 13.521]\nvelocity_m_s = [10.91, -18.36, -108.14]\n[restitution]\nshot_specimen = 0.605\nshot_shot = 0.7\n[friction]\nshot_specimen = 0.3\nshot_shot = 1.974\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
+    // a draw of this pack piles up so is chance, and which draws do changes with any
+    // change to how contacts are integrated: before session 35's contacts unclamped up
+    // to their kink, 250 alone of the seven seeds tried in 240-251; since, 244, 252 and
+    // 253 of 240-262.)
+    let text = "seed = 253\nduration_ms = 0.15\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = 0.549\n[shots.feed]\ntype = \"box\"\ncount = 600\nmin_mm = [0.0, 0.0, 0.3]\nmax_mm = [9.231, 9.231, 13.521]\nvelocity_m_s = [10.91, -18.36, -108.14]\n[restitution]\nshot_specimen = 0.605\nshot_shot = 0.7\n[friction]\nshot_specimen = 0.3\nshot_shot = 1.974\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
     redone_on_windows(text, "kept being reached by shots from outside it");
 }
 

@@ -2148,8 +2148,7 @@ fn advance_adaptive(
             break;
         }
         // Events inside the step: cut the step back to the first one.
-        let cut_at_event = g1 < 0.0;
-        if cut_at_event {
+        if g1 < 0.0 {
             lands_at = None;
             // The step's dense output estimates the margin inside it at no cost.
             dopri.dense_into(t, y, y_new, h, dense);
@@ -2213,11 +2212,11 @@ fn advance_adaptive(
         if onsets == Onsets::AtStart {
             dopri.invalidate(); // the last stage saw the state before its correction
         }
-        if cut_at_event && (pushing.specimen.contains(&true) || pushing.pairs.contains(&true)) {
-            // The step ends just past the event, maybe a kink: its last stage saw the
-            // force unclamped there (`Ctx::rhs`), the next step's sees it clamped.
-            dopri.invalidate();
-        }
+        // A step cut at a kink ends just past it (within the location's margin), where
+        // its last stage saw the force unclamped, a hair below zero, and the next step
+        // sees it clamped: the difference is of the margin's order (1e-9 R of overlap),
+        // so the stage is reused. (Evaluating it again after such steps cost the dense
+        // bed, whose one island meets a kink every few steps, 7 % more right-hand sides.)
         if members
             .iter()
             .any(|m| m.is_active() && m.t_start > t_prev && m.t_start <= t)
