@@ -42,13 +42,8 @@ impl HertzLaw {
     /// (m/s) between bodies of effective mass `m_eff` (kg) and stiffness `k` (N/m^1.5).
     #[inline]
     pub fn force(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
-        if overlap <= 0.0 {
-            return 0.0;
-        }
-        let sq = overlap.sqrt();
-        let spring = k * overlap * sq;
-        let dashpot = self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate;
-        (spring + dashpot).max(0.0)
+        self.force_unclamped(k, m_eff, overlap, overlap_rate)
+            .max(0.0)
     }
 
     /// [`HertzLaw::force`] without the clamp at zero (negative past the kink, still zero
@@ -60,7 +55,9 @@ impl HertzLaw {
             return 0.0;
         }
         let sq = overlap.sqrt();
-        k * overlap * sq + self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate
+        let spring = k * overlap * sq;
+        let dashpot = self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate;
+        spring + dashpot
     }
 }
 

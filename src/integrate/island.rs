@@ -486,8 +486,8 @@ impl Ctx<'_> {
                     // stages of a step that runs past its kink see a smooth force (and the
                     // error estimate an error of the step's order, not of a kink's), and
                     // the step is then cut at the kink (`Ctx::event_margin`). Clamped, a
-                    // step across the kink was rejected until it stopped short of it: over
-                    // 96 seeds of the 10,000-shot stream, a quarter of the rejected trials
+                    // step across the kink was rejected until it stopped short of it: on
+                    // the 10,000-shot stream, a quarter of the rejected trials
                     // (docs/performance.md, "Contacts unclamped up to their kink, session
                     // 35"). Friction takes the clamped load.
                     let f = if pushing.is_some_and(|p| p.specimen[i]) {
