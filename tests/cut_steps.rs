@@ -1,7 +1,7 @@
 //! Cut steps (session 32): a lone shot on the window scheduler lets its step run past the
-//! window's end when nothing happens in it; a step that would run into an event (a jet
-//! region's boundary, the specimen) is cut short of it and kept, instead of ending at
-//! every window's end up to the event. Only the steps change.
+//! window's end when nothing happens in it; a step that would run into an event is cut
+//! and kept (just past a jet region's boundary, short of the specimen), instead of
+//! ending at every window's end up to the event. Only the steps change.
 
 mod common;
 
@@ -40,9 +40,12 @@ fn a_lone_shot_through_windows_takes_the_steps_of_a_run_without_them() {
     // Measured: 26 steps alone; through windows 59-65 before the cut (session 32:
     // window after window up to the bore's exit, each jet region's boundary and the
     // specimen), 28-31 with it, 31-34 since a kept step proposes the controller's own
-    // size (session 35: it no longer brings the bore's long step back after a cut).
+    // size (session 35: it no longer brings the bore's long step back after a cut),
+    // 28-30 since a step that crosses only jet region boundaries is cut just past the
+    // first one and kept (session 36: before, it stopped short and the next window's
+    // step ran into the boundary again).
     assert!(
-        windowed.iter().all(|&n| n * 100 <= single * 135),
+        windowed.iter().all(|&n| n * 100 <= single * 120),
         "steps to the first contact: {single} alone, {windowed:?} through windows"
     );
     // Same flight: the first shot's impact, to the integrator's tolerance. Measured:

@@ -625,7 +625,22 @@ impl Ctx<'_> {
         t: f64,
         y: &[f64],
     ) -> f64 {
-        let field = self.phys.forces.field.as_ref();
+        self.margin_of(members, pairs, pushing, t, y, true)
+    }
+
+    /// [`Ctx::event_margin`] without the jet's region boundaries (`regions` false): the
+    /// margin of the events that change more than which formula the air takes.
+    #[inline]
+    fn margin_of(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        pushing: &Pushing,
+        t: f64,
+        y: &[f64],
+        regions: bool,
+    ) -> f64 {
+        let field = self.phys.forces.field.as_ref().filter(|_| regions);
         let specimen = self.phys.contacts.specimen.as_ref();
         let mut g = f64::INFINITY;
         for (i, m) in members.iter().enumerate() {
@@ -2059,6 +2074,7 @@ fn advance_adaptive(
             break;
         }
         let g1 = ctx.event_margin(members, pairs, pushing, t + h, y_new);
+        let mut cut_above = false;
         if may_pass && t + h > t1 {
             // The step runs past the window end: keep it only if nothing happens in it.
             let r = members[0].body.radius;
@@ -2073,10 +2089,67 @@ fn advance_adaptive(
             };
             let mut err_norm = err_norm;
             let mut passes = clear(y_new, g1);
-            if !passes && g1 < 0.0 && g0 > 0.0 {
-                // An event inside the step (a jet region's boundary, the specimen): a
-                // step that stops short of it may still run past the window end. Without
-                // it the shot would step window by window up to the event.
+            // Only the jet's region boundaries crossed: where the air's formulas meet,
+            // with a kink in its force and nothing else happening.
+            let regions_only = !passes
+                && g1 < 0.0
+                && g0 > 0.0
+                && clear(
+                    y_new,
+                    ctx.margin_of(members, pairs, pushing, t + h, y_new, false),
+                );
+            if regions_only {
+                // The step is cut just past the first boundary, as inside a window, and
+                // kept even if it ends past the window end: the next step, wherever it
+                // starts, takes the new region (`Ctx::apply_events`). Stopping short of
+                // the boundary instead (as for the events below) left it for the next
+                // window, whose step ran into it again and was thrown away: two trial
+                // steps per crossing (session 36).
+                dopri.dense_into(t, y, y_new, h, dense);
+                probe.clone_from(y);
+                let mut guess = |c: f64| {
+                    dense.at(t + c, probe);
+                    ctx.event_margin(members, pairs, pushing, t + c, probe)
+                };
+                let (b, held) =
+                    first_crossing_guided((0.0, g0), (h, g1), tol_g, &mut guess, &mut |c| {
+                        trial(
+                            &ctx, dopri, members, pairs, pushing, at, y, c, y_new, err, &mut work,
+                        );
+                        work.steps_rejected += 1;
+                        ctx.event_margin(members, pairs, pushing, t + c, y_new)
+                    });
+                if held {
+                    work.steps_rejected -= 1;
+                } else if b != h {
+                    trial(
+                        &ctx, dopri, members, pairs, pushing, at, y, b, y_new, err, &mut work,
+                    );
+                }
+                let e = if y_new.iter().all(|v| v.is_finite()) {
+                    ctx.error_norm(members, t, y, err)
+                } else {
+                    f64::INFINITY
+                };
+                let gb = ctx.margin_of(members, pairs, pushing, t + b, y_new, false);
+                if e > 1.0 || !clear(y_new, gb) {
+                    work.steps_rejected += 1;
+                    no_pass_at = t;
+                    dopri.invalidate();
+                    continue;
+                }
+                if t + b > t1 {
+                    (h, err_norm, passes) = (b, e, true);
+                } else {
+                    // The boundary lies inside the window: an ordinary step to it.
+                    h = b;
+                    lands_at = None;
+                    cut_above = true;
+                }
+            } else if !passes && g1 < 0.0 && g0 > 0.0 {
+                // An event inside the step (the specimen, the nozzle wall, the domain's
+                // edge): a step that stops short of it may still run past the window
+                // end. Without it the shot would step window by window up to the event.
                 // Where the margin crosses zero, by the step's dense output (no right-hand
                 // side needed): regula falsi, Illinois variant, keeping a point before it.
                 dopri.dense_into(t, y, y_new, h, dense);
@@ -2123,32 +2196,35 @@ fn advance_adaptive(
                     }
                 }
             }
-            if !passes {
+            if passes {
+                let m = &mut members[0];
+                m.steps += 1;
+                work.shot_steps += 1;
+                work.steps_accepted += 1;
+                let step = dopri.dense(t, y, y_new, h);
+                step.at(t1, y);
+                m.ahead = Some(std::sync::Arc::new(step));
+                // The controller's own proposal, whatever cut this step short. Bringing
+                // the earlier, longer proposal back after a step cut short of an event
+                // (as the steps below do) carried the bore's uniform-flow step into the
+                // mixing layer, where it was rejected again and again: over 96 seeds of
+                // the 10,000-shot stream this proposal halves the rejected trials, saves
+                // 8.8 % of the right-hand sides, and its outcomes are the nearest to the
+                // converged reference of the builds measured (docs/performance.md,
+                // "The controller's own proposal after a kept step, session 35").
+                h_next = h * step_factor(err_norm, 0.2, 5.0);
+                t = t1;
+                observer(t, y);
+                break;
+            }
+            if !regions_only {
                 no_pass_at = t;
                 continue;
             }
-            let m = &mut members[0];
-            m.steps += 1;
-            work.shot_steps += 1;
-            work.steps_accepted += 1;
-            let step = dopri.dense(t, y, y_new, h);
-            step.at(t1, y);
-            m.ahead = Some(std::sync::Arc::new(step));
-            // The controller's own proposal, whatever cut this step short. Bringing
-            // the earlier, longer proposal back after a step cut short of an event
-            // (as the steps below do) carried the bore's uniform-flow step into the
-            // mixing layer, where it was rejected again and again: over 96 seeds of
-            // the 10,000-shot stream this proposal halves the rejected trials, saves
-            // 8.8 % of the right-hand sides, and its outcomes are the nearest to the
-            // converged reference of the builds measured (docs/performance.md,
-            // "The controller's own proposal after a kept step, session 35").
-            h_next = h * step_factor(err_norm, 0.2, 5.0);
-            t = t1;
-            observer(t, y);
-            break;
         }
-        // Events inside the step: cut the step back to the first one.
-        if g1 < 0.0 {
+        // Events inside the step: cut the step back to the first one (done above for a
+        // lone shot's step that crossed only region boundaries).
+        if g1 < 0.0 && !cut_above {
             lands_at = None;
             // The step's dense output estimates the margin inside it at no cost.
             dopri.dense_into(t, y, y_new, h, dense);
