@@ -20,8 +20,14 @@ pub enum Region {
     Nozzle,
     /// Potential core: `0 <= s <= 5d`, `r <= (5d - s)/10`.
     Core,
-    /// Mixing layer: `0 <= s <= 5d`, `(5d - s)/10 < r <= (5d + s)/10`.
+    /// Mixing layer: `0 <= s <= 5d`, `(5d - s)/10 < r <= (5d + s)/10`, downstream of
+    /// [`Region::Lip`].
     Mixing,
+    /// The mixing layer next to the exit where the paper's Eq 5 density is capped
+    /// (`0 <= s <= s_cap`, [`JetField::cap_plane`]; empty in the consistent model). The
+    /// same air as the mixing layer; a region of its own because the cap puts a kink in
+    /// the density at `s_cap`, and steps that straddled it were rejected (session 36).
+    Lip,
     /// Developed jet: `s > 5d`, `r <= s/5`.
     Developed,
     /// Still ambient air everywhere else.
@@ -34,7 +40,7 @@ impl Region {
         match self {
             Region::Nozzle => "nozzle",
             Region::Core => "core",
-            Region::Mixing => "mixing",
+            Region::Mixing | Region::Lip => "mixing",
             Region::Developed => "developed",
             Region::Outside => "outside",
         }
@@ -142,7 +148,11 @@ impl JetField {
             if r <= (5.0 * d - s) / 10.0 {
                 Region::Core
             } else if r <= (5.0 * d + s) / 10.0 {
-                Region::Mixing
+                if s <= self.cap_plane() {
+                    Region::Lip
+                } else {
+                    Region::Mixing
+                }
             } else {
                 Region::Outside
             }
@@ -162,6 +172,7 @@ impl JetField {
                 let inside = [
                     Region::Nozzle,
                     Region::Core,
+                    Region::Lip,
                     Region::Mixing,
                     Region::Developed,
                 ]
@@ -181,7 +192,11 @@ impl JetField {
             // The bore's open end at the exit plane belongs to the core: margin -s.
             Region::Nozzle => (s + self.length + INLET_TOLERANCE).min(-s).min(0.5 * d - r),
             Region::Core => s.min(5.0 * d - s).min((5.0 * d - s) / 10.0 - r),
-            Region::Mixing => s
+            Region::Lip => s
+                .min(self.cap_plane() - s)
+                .min(r - (5.0 * d - s) / 10.0)
+                .min((5.0 * d + s) / 10.0 - r),
+            Region::Mixing => (s - self.cap_plane())
                 .min(5.0 * d - s)
                 .min(r - (5.0 * d - s) / 10.0)
                 .min((5.0 * d + s) / 10.0 - r),
@@ -213,10 +228,11 @@ impl JetField {
         let s = c.s.max(1e-9 * d);
         match region {
             Region::Nozzle | Region::Core => (ui, self.rho_core),
-            Region::Mixing => {
+            Region::Mixing | Region::Lip => {
                 // Eq 10 with |x| read as r: u_i at the core edge, 0 at the outer edge.
                 let u = 5.0 * ui / s * ((5.0 * d + s) / 10.0 - c.r);
                 let rho = match self.model {
+                    JetModel::Paper if region == Region::Lip => self.lip_density_cap,
                     JetModel::Paper => {
                         let q = 5.0 * d / s;
                         (0.75 * self.rho_exit * (q * q - 1.0)).min(self.lip_density_cap)
@@ -245,6 +261,19 @@ impl JetField {
                 (u, rho)
             }
             Region::Outside => (0.0, self.rho_ambient),
+        }
+    }
+
+    /// The plane `s_cap` up to which the paper's Eq 5 density `0.75 rho* ((5d/s)^2 - 1)`
+    /// is capped at [`JetField::lip_density_cap`] (the end of [`Region::Lip`]); 0 in the
+    /// consistent model, which has no cap.
+    #[inline]
+    pub fn cap_plane(&self) -> f64 {
+        match self.model {
+            JetModel::Paper if self.rho_exit > 0.0 => {
+                5.0 * self.bore / (1.0 + self.lip_density_cap / (0.75 * self.rho_exit)).sqrt()
+            }
+            _ => 0.0,
         }
     }
 
@@ -301,11 +330,36 @@ pub(crate) mod tests {
         assert_eq!(f.region_of(&at(&f, 0.0, 0.0)), Region::Core);
         assert_eq!(f.region_of(&at(&f, 0.0, 0.5 * d)), Region::Core); // the lip
         assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.25 * d)), Region::Core);
-        assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.4 * d)), Region::Mixing);
+        assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.4 * d)), Region::Lip);
+        assert_eq!(f.region_of(&at(&f, 4.0 * d, 0.5 * d)), Region::Mixing);
         assert_eq!(f.region_of(&at(&f, 2.0 * d, 0.8 * d)), Region::Outside);
         assert_eq!(f.region_of(&at(&f, 5.0 * d, 0.0)), Region::Core);
         assert_eq!(f.region_of(&at(&f, 6.0 * d, 1.0 * d)), Region::Developed);
         assert_eq!(f.region_of(&at(&f, 6.0 * d, 1.3 * d)), Region::Outside);
+    }
+
+    /// The lip region ends where Eq 5's density reaches the cap (2.84 d with the paper
+    /// scene, docs/model.md): the density is continuous across it, capped before it,
+    /// Eq 5 after it; the consistent model has no cap and no lip.
+    #[test]
+    fn the_lip_ends_where_eq_5_reaches_the_cap() {
+        let f = paper_field(JetModel::Paper);
+        let d = f.bore;
+        let cap = f.cap_plane();
+        assert!((cap / d - 2.84).abs() < 0.005, "s_cap = {} d", cap / d);
+        let rho = |s: f64, region| f.speed_density(&at(&f, s, 0.4 * d), region).1;
+        let q = 5.0 * d / cap;
+        let eq5 = 0.75 * f.rho_exit * (q * q - 1.0);
+        assert!((eq5 / f.lip_density_cap - 1.0).abs() < 1e-12);
+        assert!((rho(cap, Region::Mixing) / rho(cap, Region::Lip) - 1.0).abs() < 1e-12);
+        assert_eq!(rho(0.5 * cap, Region::Lip), f.lip_density_cap);
+        assert!(rho(1.5 * cap, Region::Mixing) < f.lip_density_cap);
+        // The air's velocity is the mixing layer's on both sides.
+        let u = |s: f64, region| f.speed_density(&at(&f, s, 0.4 * d), region).0;
+        assert_eq!(u(0.5 * cap, Region::Lip), u(0.5 * cap, Region::Mixing));
+        let c = paper_field(JetModel::Consistent);
+        assert_eq!(c.cap_plane(), 0.0);
+        assert_eq!(c.region_of(&at(&c, 0.5 * cap, 0.4 * d)), Region::Mixing);
     }
 
     #[test]
@@ -316,7 +370,13 @@ pub(crate) mod tests {
         let on = at(&f, 2.0 * d, 0.3 * d);
         assert!(f.margin(&on, Region::Core).abs() < 1e-15);
         assert!(f.margin(&at(&f, 2.0 * d, 0.31 * d), Region::Core) < 0.0);
-        assert!(f.margin(&at(&f, 2.0 * d, 0.31 * d), Region::Mixing) > 0.0);
+        assert!(f.margin(&at(&f, 2.0 * d, 0.31 * d), Region::Lip) > 0.0);
+        // Lip/mixing border at the cap's plane.
+        let cap = f.cap_plane();
+        assert!(f.margin(&at(&f, cap, 0.4 * d), Region::Lip).abs() < 1e-15);
+        assert!(f.margin(&at(&f, cap * 1.001, 0.4 * d), Region::Lip) < 0.0);
+        assert!(f.margin(&at(&f, cap * 1.001, 0.4 * d), Region::Mixing) > 0.0);
+        assert!(f.margin(&at(&f, cap * 0.999, 0.4 * d), Region::Mixing) < 0.0);
         // Outside margin is positive outside, negative once inside any region.
         assert!(f.margin(&at(&f, 2.0 * d, 0.9 * d), Region::Outside) > 0.0);
         assert!(f.margin(&at(&f, 2.0 * d, 0.6 * d), Region::Outside) < 0.0);

@@ -29,7 +29,7 @@ impl LateralForceModel {
     #[inline]
     pub fn weight(&self, region: Region, s: f64, r: f64) -> f64 {
         match region {
-            Region::Core | Region::Mixing => 10.0 * r / (s + 5.0 * self.bore),
+            Region::Core | Region::Mixing | Region::Lip => 10.0 * r / (s + 5.0 * self.bore),
             Region::Developed => 5.0 * r / s.max(1e-12),
             Region::Nozzle | Region::Outside => 0.0,
         }

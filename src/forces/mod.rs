@@ -181,7 +181,7 @@ mod tests {
             let set = forces(turbulence);
             let field = set.field.as_ref().unwrap();
             let region = field.region_of(&field.coords(&pos));
-            assert_eq!(region, Region::Mixing);
+            assert_eq!(region, Region::Lip); // the mixing layer where its density is capped
             let flow = field.sample(&pos, region);
             let (drag, lateral) = (set.drag.unwrap(), set.lateral.unwrap());
             let area = body.area();

@@ -43,7 +43,7 @@ impl Turbulence {
     /// Whether `region` is turbulent.
     #[inline]
     pub fn turbulent(region: Region) -> bool {
-        matches!(region, Region::Mixing | Region::Developed)
+        matches!(region, Region::Mixing | Region::Lip | Region::Developed)
     }
 
     /// A new eddy for shot `shot` (its `number`-th) at jet coordinates `c` in `region`
