@@ -1614,6 +1614,56 @@ fn trial(
 /// whose steps are not cut at entries, passes the previous step's start as `since`: a
 /// shot entering in `(since, t]` starts moving at `t` and is checked there (the adaptive
 /// method passes `t`).
+/// Cuts the trial step of length `h` from `t`, whose event margin goes from `g0` to
+/// `g1 < 0`, back to the margin's first root (within `tol_g` past it), guessed from the
+/// step's dense output and confirmed by trial steps (`first_crossing_guided`). Returns
+/// the cut length `b` and its error norm; the cut step's state is in `y_new`.
+#[allow(clippy::too_many_arguments)]
+fn cut_at_event(
+    ctx: &Ctx<'_>,
+    scratch: (&mut Dopri5, &mut DenseStep, &mut Vec<f64>),
+    members: &[ShotState],
+    pairs: &[IslandPair],
+    pushing: &Pushing,
+    at: (f64, Onsets),
+    y: &[f64],
+    (h, g0, g1, tol_g): (f64, f64, f64, f64),
+    y_new: &mut [f64],
+    err: &mut [f64],
+    work: &mut WorkCounters,
+) -> (f64, f64) {
+    let (dopri, dense, probe) = scratch;
+    let t = at.0;
+    dopri.dense_into(t, y, y_new, h, dense);
+    probe.clear();
+    probe.extend_from_slice(y);
+    let mut guess = |c: f64| {
+        dense.at(t + c, probe);
+        ctx.event_margin(members, pairs, pushing, t + c, probe)
+    };
+    let (b, held) = first_crossing_guided((0.0, g0), (h, g1), tol_g, &mut guess, &mut |c| {
+        trial(
+            ctx, dopri, members, pairs, pushing, at, y, c, y_new, err, work,
+        );
+        work.steps_rejected += 1;
+        ctx.event_margin(members, pairs, pushing, t + c, y_new)
+    });
+    if held {
+        // The last trial step ended at `b`: it is the step taken.
+        work.steps_rejected -= 1;
+    } else if b != h {
+        trial(
+            ctx, dopri, members, pairs, pushing, at, y, b, y_new, err, work,
+        );
+    }
+    let e = if y_new.iter().all(|v| v.is_finite()) {
+        ctx.error_norm(members, t, y, err)
+    } else {
+        f64::INFINITY
+    };
+    (b, e)
+}
+
 fn hold_entries(
     members: &mut [ShotState],
     pairs: &[IslandPair],
@@ -2116,32 +2166,19 @@ fn advance_adaptive(
                 // the boundary instead (as for the events below) left it for the next
                 // window, whose step ran into it again and was thrown away: two trial
                 // steps per crossing (session 36).
-                dopri.dense_into(t, y, y_new, h, dense);
-                probe.clone_from(y);
-                let mut guess = |c: f64| {
-                    dense.at(t + c, probe);
-                    ctx.event_margin(members, pairs, pushing, t + c, probe)
-                };
-                let (b, held) =
-                    first_crossing_guided((0.0, g0), (h, g1), tol_g, &mut guess, &mut |c| {
-                        trial(
-                            &ctx, dopri, members, pairs, pushing, at, y, c, y_new, err, &mut work,
-                        );
-                        work.steps_rejected += 1;
-                        ctx.event_margin(members, pairs, pushing, t + c, y_new)
-                    });
-                if held {
-                    work.steps_rejected -= 1;
-                } else if b != h {
-                    trial(
-                        &ctx, dopri, members, pairs, pushing, at, y, b, y_new, err, &mut work,
-                    );
-                }
-                let e = if y_new.iter().all(|v| v.is_finite()) {
-                    ctx.error_norm(members, t, y, err)
-                } else {
-                    f64::INFINITY
-                };
+                let (b, e) = cut_at_event(
+                    &ctx,
+                    (dopri, dense, probe),
+                    members,
+                    pairs,
+                    pushing,
+                    at,
+                    y,
+                    (h, g0, g1, tol_g),
+                    y_new,
+                    err,
+                    &mut work,
+                );
                 let gb = ctx.margin_of(members, pairs, pushing, t + b, y_new, false);
                 if e > 1.0 || !clear(y_new, gb) {
                     work.steps_rejected += 1;
@@ -2237,37 +2274,23 @@ fn advance_adaptive(
         // lone shot's step that crossed only region boundaries).
         if g1 < 0.0 && !cut_above {
             lands_at = None;
-            // The step's dense output estimates the margin inside it at no cost.
-            dopri.dense_into(t, y, y_new, h, dense);
-            probe.clone_from(y);
-            let mut guess = |c: f64| {
-                dense.at(t + c, probe);
-                ctx.event_margin(members, pairs, pushing, t + c, probe)
-            };
-            let (b, held) =
-                first_crossing_guided((0.0, g0.max(0.0)), (h, g1), tol_g, &mut guess, &mut |c| {
-                    trial(
-                        &ctx, dopri, members, pairs, pushing, at, y, c, y_new, err, &mut work,
-                    );
-                    work.steps_rejected += 1;
-                    ctx.event_margin(members, pairs, pushing, t + c, y_new)
-                });
-            if held {
-                // The last trial step ended at `b`: it is the step taken.
-                work.steps_rejected -= 1;
-            } else if b != h {
-                trial(
-                    &ctx, dopri, members, pairs, pushing, at, y, b, y_new, err, &mut work,
-                );
-            }
-            // The step cut back to the event must be accurate too: a contact its stages
-            // meet that the whole step's did not (a shot that drifted slowly into the bore
-            // wall, met by a step cut at the exit plane) is not. Retried shorter.
-            let e = if y_new.iter().all(|v| v.is_finite()) {
-                ctx.error_norm(members, t, y, err)
-            } else {
-                f64::INFINITY
-            };
+            // The step's dense output estimates the margin inside it at no cost. The step
+            // cut back to the event must be accurate too: a contact its stages meet that
+            // the whole step's did not (a shot that drifted slowly into the bore wall, met
+            // by a step cut at the exit plane) is not. Retried shorter.
+            let (b, e) = cut_at_event(
+                &ctx,
+                (dopri, dense, probe),
+                members,
+                pairs,
+                pushing,
+                at,
+                y,
+                (h, g0.max(0.0), g1, tol_g),
+                y_new,
+                err,
+                &mut work,
+            );
             if e > 1.0 {
                 work.steps_rejected += 1;
                 h_next = b * if e.is_finite() {
