@@ -145,6 +145,11 @@ const BINS: usize = 64;
 /// A sweep that checks more than this many candidate pairs per item (plus a constant)
 /// is abandoned for the cell list: the items bunch up somewhere.
 const SWEEP_BUDGET: usize = 24;
+/// A tracked call keeps the previous call's sweep axis for this many calls before
+/// choosing it from the histogram again (the items move little between calls; a layout
+/// that bunches up meanwhile exhausts the sweep's budget, and the next call chooses
+/// afresh).
+const AXIS_KEPT: u32 = 16;
 
 /// Reusable broad phase (sweep buffers and cell grids).
 #[derive(Debug, Default, Clone)]
@@ -166,6 +171,8 @@ pub struct CellList {
 #[derive(Debug, Default, Clone)]
 struct Track {
     axis: Option<usize>,
+    /// Tracked calls since the axis was last chosen from the histogram.
+    since_histogram: u32,
     ids: Vec<usize>,
     order: Vec<u32>,
 }
@@ -261,35 +268,46 @@ impl CellList {
             r_sum += r;
         }
         let extent = hi - lo;
-        // Per axis, the candidate checks a sweep along it would make, from a histogram
-        // of the centres on it: bin `b`'s items each check those starting within their
-        // interval, `count_b x 2 r_mean / bin width` of them.
-        let diameter = 2.0 * r_sum / n as f64;
-        let mut best = (f64::INFINITY, 0);
-        for axis in 0..3 {
-            let width = extent[axis] / BINS as f64;
-            if width.is_nan() || width <= 0.0 {
-                continue;
+        let kept = match (ids, self.track.axis) {
+            (Some(_), Some(axis)) if self.track.since_histogram < AXIS_KEPT => Some(axis),
+            _ => None,
+        };
+        let axis = match kept {
+            Some(axis) => axis,
+            None => {
+                // Per axis, the candidate checks a sweep along it would make, from a
+                // histogram of the centres on it: bin `b`'s items each check those
+                // starting within their interval, `count_b x 2 r_mean / bin width` of
+                // them.
+                let diameter = 2.0 * r_sum / n as f64;
+                let mut best = (f64::INFINITY, 0);
+                for axis in 0..3 {
+                    let width = extent[axis] / BINS as f64;
+                    if width.is_nan() || width <= 0.0 {
+                        continue;
+                    }
+                    let mut counts = [0u32; BINS];
+                    for c in centres {
+                        let b = ((c[axis] - lo[axis]) / width) as usize;
+                        counts[b.min(BINS - 1)] += 1;
+                    }
+                    let squares: f64 = counts.iter().map(|&k| f64::from(k) * f64::from(k)).sum();
+                    let checks = squares * diameter / width;
+                    if checks < best.0 {
+                        best = (checks, axis);
+                    }
+                }
+                let (checks, axis) = best;
+                let expected = checks / n as f64;
+                if expected.is_nan() || expected > SWEEP_EXPECTED {
+                    if ids.is_some() {
+                        self.track.axis = None;
+                    }
+                    return false;
+                }
+                axis
             }
-            let mut counts = [0u32; BINS];
-            for c in centres {
-                let b = ((c[axis] - lo[axis]) / width) as usize;
-                counts[b.min(BINS - 1)] += 1;
-            }
-            let squares: f64 = counts.iter().map(|&k| f64::from(k) * f64::from(k)).sum();
-            let checks = squares * diameter / width;
-            if checks < best.0 {
-                best = (checks, axis);
-            }
-        }
-        let (checks, axis) = best;
-        let expected = checks / n as f64;
-        if expected.is_nan() || expected > SWEEP_EXPECTED {
-            if ids.is_some() {
-                self.track.axis = None;
-            }
-            return false;
-        }
+        };
         let order = &mut self.sweep;
         order.clear();
         let key = |i: usize| (centres[i][axis] - radii[i], i as u32);
@@ -329,6 +347,7 @@ impl CellList {
         if let Some(ids) = ids {
             let track = &mut self.track;
             track.axis = Some(axis);
+            track.since_histogram = kept.map_or(0, |_| track.since_histogram + 1);
             track.ids.clear();
             track.ids.extend_from_slice(ids);
             track.order.clear();
@@ -347,6 +366,8 @@ impl CellList {
                     break;
                 }
                 if budget == 0 {
+                    // Bunched up: the next tracked call chooses from the histogram.
+                    self.track.since_histogram = AXIS_KEPT;
                     return false;
                 }
                 budget -= 1;
