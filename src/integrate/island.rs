@@ -1604,16 +1604,6 @@ fn trial(
     }
 }
 
-/// Gap (m) between the shots of pair `pr` in state `y`; negative when they overlap.
-/// Holds back a shot fed into the run at `t` (its entry time) that would appear
-/// overlapping a shot already moving there (one that came back up the bore to the inlet,
-/// or lingers there in a tilted nozzle; the feed only keeps the shots it places apart,
-/// `feed::StreamFeed`): its entry moves on by the time the two need to cover a contact
-/// distance at their speeds, and it is tried again then, as LIGGGHTS' insertion waits
-/// for a free place. Counted in `WorkCounters::entries_held`. The fixed-step method,
-/// whose steps are not cut at entries, passes the previous step's start as `since`: a
-/// shot entering in `(since, t]` starts moving at `t` and is checked there (the adaptive
-/// method passes `t`).
 /// Cuts the trial step of length `h` from `t`, whose event margin goes from `g0` to
 /// `g1 < 0`, back to the margin's first root (within `tol_g` past it), guessed from the
 /// step's dense output and confirmed by trial steps (`first_crossing_guided`). Returns
@@ -1664,6 +1654,15 @@ fn cut_at_event(
     (b, e)
 }
 
+/// Holds back a shot fed into the run at `t` (its entry time) that would appear
+/// overlapping a shot already moving there (one that came back up the bore to the inlet,
+/// or lingers there in a tilted nozzle; the feed only keeps the shots it places apart,
+/// `feed::StreamFeed`): its entry moves on by the time the two need to cover a contact
+/// distance at their speeds, and it is tried again then, as LIGGGHTS' insertion waits
+/// for a free place. Counted in `WorkCounters::entries_held`. The fixed-step method,
+/// whose steps are not cut at entries, passes the previous step's start as `since`: a
+/// shot entering in `(since, t]` starts moving at `t` and is checked there (the adaptive
+/// method passes `t`).
 fn hold_entries(
     members: &mut [ShotState],
     pairs: &[IslandPair],
@@ -1696,6 +1695,7 @@ fn hold_entries(
     }
 }
 
+/// Gap (m) between the shots of pair `pr` in state `y`; negative when they overlap.
 fn pair_gap(members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
     let (i, j) = (pr.a as usize, pr.b as usize);
     (pos(y, j) - pos(y, i)).norm() - members[i].body.radius - members[j].body.radius
