@@ -64,6 +64,9 @@ pub struct WorkCounters {
     /// Shots fed into the run whose entry was held back because they would have appeared
     /// overlapping a shot already there (counted at each hold).
     pub entries_held: u64,
+    /// Windows scheduler: windows that lone shots slept through, per shot (`sim/sleep.rs`:
+    /// not looked at, their states read off their kept steps when they wake).
+    pub shot_windows_slept: u64,
 }
 
 impl WorkCounters {
@@ -93,5 +96,6 @@ impl WorkCounters {
         self.lean_continuations += other.lean_continuations;
         self.slides += other.slides;
         self.entries_held += other.entries_held;
+        self.shot_windows_slept += other.shot_windows_slept;
     }
 }

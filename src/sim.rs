@@ -27,6 +27,9 @@ use crate::state::{ShotState, ShotStatus};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap as HashMap;
 
+mod sleep;
+use sleep::{Sleeper, Sleepers};
+
 /// Longest synchronisation window, s.
 const MAX_WINDOW: f64 = 1e-4;
 /// Shortest synchronisation window, s.
@@ -988,6 +991,11 @@ pub struct Simulation {
     separate_clocks: bool,
     /// Told, during the run, what the caller should hear at once (see [`Self::with_notice`]).
     notice: Option<Notice>,
+    /// Lone shots asleep across windows (`sleep`), and whether shots may sleep.
+    sleepers: Sleepers,
+    /// Whether each shot of the window had a pair in its broad phase.
+    near_buf: ById<bool>,
+    sleep: bool,
 }
 
 /// Shots the independent scheduler flies at a time when it streams its records.
@@ -1125,6 +1133,14 @@ impl Simulation {
         self
     }
 
+    /// Whether the window scheduler lets lone shots riding a kept step sleep across
+    /// windows (default; `sim::sleep`) or looks at every shot in flight in every window.
+    /// For comparisons: the outputs are the same byte for byte.
+    pub fn with_sleepers(mut self, on: bool) -> Self {
+        self.sleep = on;
+        self
+    }
+
     /// Whether the event scheduler resolves lone frictionless contacts on its lean path
     /// (closed form and a two-body frame, `events::binary`; default) or every contact as
     /// an island. For comparisons: both resolve the same physics to the tolerance.
@@ -1177,6 +1193,9 @@ impl Simulation {
             sub_windows: true,
             separate_clocks: true,
             notice: None,
+            sleepers: Sleepers::default(),
+            near_buf: ById::default(),
+            sleep: true,
             physics,
             shots: ShotStore::from_vec(shots),
             feed: None,
@@ -1321,6 +1340,7 @@ impl Simulation {
                 }
                 progress(self.t / self.end);
             }
+            self.wake_sleepers(self.t, |_| true);
         }
         self.emit_impacts(sink);
         self.events
@@ -1559,11 +1579,20 @@ impl Simulation {
     fn window_length(&self) -> f64 {
         let mut v_max: f64 = 0.0;
         let mut d_min = f64::INFINITY;
+        let mut cursor = 0;
         for &i in &self.live {
             let s = &self.shots[i];
             if s.is_active() && s.t_start <= self.t {
-                v_max = v_max.max(s.vel.norm());
+                if !self.sleepers.sleeps(i, &mut cursor) {
+                    v_max = v_max.max(s.vel.norm());
+                }
                 d_min = d_min.min(2.0 * s.body.radius);
+            }
+        }
+        // A sleeper's speed counts where it could be the largest (read off its step).
+        for z in self.sleepers.iter() {
+            if z.speed_bound() > v_max {
+                v_max = v_max.max(z.speed_at(&self.physics, &self.shots[z.id], self.t));
             }
         }
         if !d_min.is_finite() {
@@ -1680,25 +1709,76 @@ impl Simulation {
     }
 
     /// Candidate pairs (global ids, sorted) for a window: the shots `idx` with their
-    /// reach-inflated radii `reach` ([`Simulation::inflated_radius`]), plus every pair in
-    /// contact.
-    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> Vec<(u32, u32)> {
-        let centres: Vec<Vec3> = idx.iter().map(|&i| self.shots[i].pos).collect();
-        let inflated: Vec<f64> = idx.iter().map(|&i| reach[i]).collect();
+    /// reach-inflated radii `reach` ([`inflated_radius`]), plus every pair in contact;
+    /// and the sleepers whose balls met anything, woken at the window's start (ascending).
+    /// Their pairs are among the candidates, found with their balls (which hold their
+    /// reach balls): `refine_candidates` tests the reach.
+    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> (Vec<(u32, u32)>, Vec<usize>) {
+        // The window's shots and the sleepers, ascending by id, each with its ball.
+        let mut ids = Vec::with_capacity(idx.len() + self.sleepers.len());
+        let mut centres = Vec::with_capacity(ids.capacity());
+        let mut inflated = Vec::with_capacity(ids.capacity());
+        let t0 = self.t;
+        // Which entries are sleepers, and which met another ball.
+        let mut asleep = Vec::with_capacity(ids.capacity());
+        let mut zs = self.sleepers.iter().peekable();
+        for &i in idx {
+            while let Some(z) = zs.next_if(|z| z.id < i) {
+                ids.push(z.id);
+                centres.push(z.centre(t0));
+                inflated.push(z.radius);
+                asleep.push(true);
+            }
+            ids.push(i);
+            centres.push(self.shots[i].pos);
+            inflated.push(reach[i]);
+            asleep.push(false);
+        }
+        for z in zs {
+            ids.push(z.id);
+            centres.push(z.centre(t0));
+            inflated.push(z.radius);
+            asleep.push(true);
+        }
         self.work.neighbour_searches += 1;
-        // Shot ids are their indices and `idx` ascends: the pairs stay sorted.
-        let mut candidates: Vec<(u32, u32)> = self
-            .cells
-            .pairs_tracked(&centres, &inflated, idx)
+        // Shot ids are their indices and `ids` ascends: the pairs stay sorted.
+        let local = self.cells.pairs_tracked(&centres, &inflated, &ids);
+        // Shots with a pair (a lone one among them does not fall asleep after the window:
+        // it would wake at once), and the sleepers met.
+        let mut met = vec![false; ids.len()];
+        for &(a, b) in &local {
+            met[a as usize] = true;
+            met[b as usize] = true;
+        }
+        self.near_buf.reset(&self.shots, false);
+        let mut woken = Vec::new();
+        for (k, &i) in ids.iter().enumerate() {
+            if met[k] {
+                self.near_buf[i] = true;
+                if asleep[k] {
+                    woken.push(i);
+                }
+            }
+        }
+        if !woken.is_empty() {
+            let mut k = 0;
+            self.wake_sleepers(t0, |z| {
+                while woken.get(k).is_some_and(|&i| i < z.id) {
+                    k += 1;
+                }
+                woken.get(k) == Some(&z.id)
+            });
+        }
+        let mut candidates: Vec<(u32, u32)> = local
             .into_iter()
-            .map(|(a, b)| (idx[a as usize] as u32, idx[b as usize] as u32))
+            .map(|(a, b)| (ids[a as usize] as u32, ids[b as usize] as u32))
             .collect();
         if !self.pairs.is_empty() {
             candidates.extend(self.pairs.keys().copied());
             candidates.sort_unstable();
             candidates.dedup();
         }
-        candidates
+        (candidates, woken)
     }
 
     /// Runs one synchronisation window from `self.t` to at most `t1`, and returns where
@@ -1708,23 +1788,52 @@ impl Simulation {
     /// contacts in progress cannot be split, and are accepted as they are.
     fn window(&mut self, t1: f64) -> f64 {
         let t0 = self.t;
-        let mut t1 = t1;
         self.windows += 1;
         // A shot that stopped meanwhile must not leave a stale contact behind.
         self.pairs.retain(|k, _| {
             self.shots[k.0 as usize].is_active() && self.shots[k.1 as usize].is_active()
         });
-        let mut contact: Option<usize> = None;
-        // Shots taking part: active and entering before the (longest) window ends.
         self.admit(|t| t < t1);
-        let all: Vec<usize> = self
+        self.wake_sleepers(t0, |z| z.due(t0, t1));
+        loop {
+            if let Some(end) = self.window_pass(t1) {
+                return end;
+            }
+            // A shot went beyond its reach: the overlap search looks at every shot's end.
+            self.wake_sleepers(t0, |_| true);
+        }
+    }
+
+    /// Whether shot `i` is awake (by a search of the sleepers).
+    fn awake(&self, i: u32) -> bool {
+        !self.sleepers.iter().any(|z| z.id == i as usize)
+    }
+
+    /// Wakes the sleepers `pick` chooses at `t` (their states read off their steps).
+    fn wake_sleepers(&mut self, t: f64, pick: impl FnMut(&Sleeper) -> bool) {
+        for z in self.sleepers.take(pick) {
+            z.wake(&self.physics, &mut self.shots[z.id], t);
+        }
+    }
+
+    /// [`Self::window`] once its shots are admitted and its sleepers due woken: `None`
+    /// when a shot went beyond its reach while others sleep (nothing committed).
+    fn window_pass(&mut self, t1: f64) -> Option<f64> {
+        let t0 = self.t;
+        let (h0, mut t1) = (t1 - t0, t1);
+        let mut contact: Option<usize> = None;
+        // Shots taking part: active, awake and entering before the (longest) window ends.
+        let mut cursor = 0;
+        let mut all: Vec<usize> = self
             .live
             .iter()
             .copied()
             .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
+            .filter(|&i| !self.sleepers.sleeps(i, &mut cursor))
             .collect();
         if all.is_empty() {
-            return t1;
+            // Nobody awake; sleepers sleep through.
+            return Some(t1);
         }
         let mut reach = std::mem::take(&mut self.reach_buf);
         let mut kicked = std::mem::take(&mut self.kicked_buf);
@@ -1739,7 +1848,16 @@ impl Simulation {
             reach[i] = inflated_radius(&self.shots[i], acc[i], t0, t1);
         }
         // Candidates for the longest window; shorter windows only need a subset of them.
-        let widest = self.candidates(&all, &reach);
+        // Sleepers whose balls meet anything wake and join.
+        let (widest, woken) = self.candidates(&all, &reach);
+        if !woken.is_empty() {
+            for &i in &woken {
+                acc[i] = body_acc(&self.physics, &self.shots[i]);
+                reach[i] = inflated_radius(&self.shots[i], acc[i], t0, t1);
+            }
+            all.extend(woken);
+            all.sort_unstable();
+        }
         // The window end `reach` holds (the longest first, as `all` is).
         let mut reach_t1 = t1;
         let (idx, mut candidates) = loop {
@@ -1809,30 +1927,44 @@ impl Simulation {
                 (e - s.pos).norm() > self.reach_buf[i] - s.body.radius
             });
             if !escaped {
-                self.commit_islands(&islands, results);
+                self.commit_islands(&islands, results, (t1, h0));
                 break;
             }
-            let radii: Vec<f64> = idx.iter().map(|&i| self.shots[i].body.radius).collect();
+            // The search looks at every shot's end: the sleepers' read off their steps.
+            let mut ends = ends;
+            let mut ids = idx.clone();
+            for z in self.sleepers.iter() {
+                ids.push(z.id);
+                ends.push(z.pos_at(&self.physics, &self.shots[z.id], t1));
+            }
+            let radii: Vec<f64> = ids.iter().map(|&i| self.shots[i].body.radius).collect();
             self.work.neighbour_searches += 1;
             let missed: Vec<(u32, u32)> = self
                 .cells
                 .pairs(&ends, &radii)
                 .into_iter()
                 .map(|(a, b)| {
-                    (
-                        self.shots[idx[a as usize]].id.0,
-                        self.shots[idx[b as usize]].id.0,
-                    )
+                    let (a, b) = (ids[a as usize] as u32, ids[b as usize] as u32);
+                    (a.min(b), a.max(b))
                 })
                 .filter(|p| candidates.binary_search(p).is_err())
                 .collect();
+            if !self.sleepers.is_empty()
+                && missed
+                    .iter()
+                    .any(|&(a, b)| !self.awake(a) || !self.awake(b))
+            {
+                // A sleeper met: the window again with every shot awake.
+                self.slot_buf = slot;
+                return None;
+            }
             if !missed.is_empty() {
                 self.window_redos += 1;
                 candidates.extend(missed);
                 candidates.sort_unstable();
                 continue;
             }
-            self.commit_islands(&islands, results);
+            self.commit_islands(&islands, results, (t1, h0));
             break;
         }
         self.slot_buf = slot;
@@ -1847,7 +1979,7 @@ impl Simulation {
         });
         self.pairs
             .retain(|k, _| shots[k.0 as usize].is_active() && shots[k.1 as usize].is_active());
-        t1
+        Some(t1)
     }
 
     fn integrate_islands(&self, islands: &Islands, t0: f64, t1: f64) -> Vec<IslandResult> {
@@ -1940,18 +2072,38 @@ impl Simulation {
         }
     }
 
-    fn commit_islands(&mut self, islands: &Islands, results: Vec<IslandResult>) {
-        for ((isl, _), result) in islands.iter().zip(results) {
+    /// Stores the islands' results at the window's end `t1`, and puts lone shots riding a
+    /// kept step to sleep (`h0` the window's length before it shrank, if it did).
+    fn commit_islands(
+        &mut self,
+        islands: &Islands,
+        results: Vec<IslandResult>,
+        (t1, h0): (f64, f64),
+    ) {
+        let sleep = self.sleep
+            && self.snapshot_interval.is_none()
+            && matches!(self.physics.method, Method::Adaptive);
+        let mut asleep = Vec::new();
+        for ((isl, gpairs), result) in islands.iter().zip(results) {
             let (members, pairs, out, pts) = match result {
                 IslandResult::Kept(kept) => {
-                    kept.store(&mut self.shots[isl[0]]);
+                    let s = &mut self.shots[isl[0]];
+                    kept.store(s);
+                    if sleep && !self.near_buf[isl[0]] {
+                        asleep.extend(Sleeper::new(&self.physics, s, t1, h0));
+                    }
                     continue;
                 }
                 IslandResult::Stepped(members, pairs, out, pts) => (members, pairs, out, pts),
             };
+            let lone = sleep && members.len() == 1 && gpairs.is_empty() && !self.near_buf[isl[0]];
             self.snapshot_points.extend(pts);
             for (k, m) in members.into_iter().enumerate() {
                 self.shots[isl[k]] = m;
+            }
+            let s = &self.shots[isl[0]];
+            if lone && s.is_active() {
+                asleep.extend(Sleeper::new(&self.physics, s, t1, h0));
             }
             for (key, p) in pairs {
                 if p.touching {
@@ -1968,6 +2120,8 @@ impl Simulation {
             }
             self.commit_output(out);
         }
+        self.work.shot_windows_slept += self.sleepers.len() as u64;
+        self.sleepers.extend(asleep);
     }
 }
 
