@@ -1831,8 +1831,7 @@ impl Simulation {
             .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
             .filter(|&i| !self.sleepers.sleeps(i, &mut cursor))
             .collect();
-        if all.is_empty() {
-            // Nobody awake; sleepers sleep through.
+        if all.is_empty() && self.sleepers.is_empty() {
             return Some(t1);
         }
         let mut reach = std::mem::take(&mut self.reach_buf);
@@ -1857,6 +1856,12 @@ impl Simulation {
             }
             all.extend(woken);
             all.sort_unstable();
+        }
+        if all.is_empty() {
+            // Nobody awake, and no sleeper's ball met another's: they sleep through.
+            (self.reach_buf, self.kicked_buf, self.slot_buf, self.acc_buf) =
+                (reach, kicked, slot, acc);
+            return Some(t1);
         }
         // The window end `reach` holds (the longest first, as `all` is).
         let mut reach_t1 = t1;

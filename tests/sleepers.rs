@@ -6,8 +6,9 @@
 
 mod common;
 
+use peenflow::Vec3;
 use peenflow::scene::Scene;
-use peenflow::sim::{RunOutput, Simulation};
+use peenflow::sim::{RunOutput, Scheduler, Simulation};
 
 fn run(scene: &Scene, sleep: bool) -> RunOutput {
     let effects = scene.effects();
@@ -51,4 +52,39 @@ fn sleepers_change_nothing_in_a_colliding_stream() {
             "{slept} shot-windows slept over {windows} windows"
         );
     }
+}
+
+/// Two shots in vacuum, 20 mm apart, closing head-on at 100 m/s, and a third at rest off
+/// to the side: every shot rides a kept step and falls asleep after the first window, so
+/// no window has a shot awake until two balls meet. The sleepers wake, the shots collide
+/// once, and the run is the same as with every shot looked at (session 37: a first
+/// version skipped windows with nobody awake and let the pair pass through each other).
+#[test]
+fn sleepers_that_only_meet_each_other_wake_and_collide() {
+    let d = 0.8e-3;
+    let go = |sleep: bool| {
+        let shots = vec![
+            common::shot(0, d, Vec3::new(0.0, 0.0, 0.01), Vec3::new(50.0, 0.0, 0.0)),
+            common::shot(1, d, Vec3::new(0.02, 0.0, 0.01), Vec3::new(-50.0, 0.0, 0.0)),
+            common::shot(2, d, Vec3::new(0.01, 0.005, 0.01), Vec3::zeros()),
+        ];
+        let phys = common::contact_physics(None, Some(0.9));
+        Simulation::from_parts(phys, shots, 4e-4)
+            .with_scheduler(Scheduler::Windows)
+            .with_sleepers(sleep)
+            .run(&|_| {})
+    };
+    let (awake, asleep) = (go(false), go(true));
+    assert!(asleep.work.shot_windows_slept > 0);
+    assert_eq!(asleep.work.contact_onsets, 1);
+    assert_eq!(awake.work.contact_onsets, 1);
+    for (a, b) in awake.shots.iter().zip(&asleep.shots) {
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    }
+    // Head-on, restitution 0.9: they part at 45 m/s each.
+    assert!(
+        (asleep.shots[0].vel.x + 45.0).abs() < 1e-3,
+        "{:?}",
+        asleep.shots[0].vel
+    );
 }
