@@ -1581,11 +1581,15 @@ impl Simulation {
         let mut d_min = f64::INFINITY;
         let mut cursor = 0;
         for &i in &self.live {
+            // A sleeper is active and entered; its diameter is kept with it (its state,
+            // far in memory, is not read).
+            if let Some(z) = self.sleepers.find(i, &mut cursor) {
+                d_min = d_min.min(z.diameter);
+                continue;
+            }
             let s = &self.shots[i];
             if s.is_active() && s.t_start <= self.t {
-                if !self.sleepers.sleeps(i, &mut cursor) {
-                    v_max = v_max.max(s.vel.norm());
-                }
+                v_max = v_max.max(s.vel.norm());
                 d_min = d_min.min(2.0 * s.body.radius);
             }
         }
@@ -1828,8 +1832,8 @@ impl Simulation {
             .live
             .iter()
             .copied()
+            .filter(|&i| self.sleepers.find(i, &mut cursor).is_none())
             .filter(|&i| self.shots[i].is_active() && self.shots[i].t_start < t1)
-            .filter(|&i| !self.sleepers.sleeps(i, &mut cursor))
             .collect();
         if all.is_empty() && self.sleepers.is_empty() {
             return Some(t1);
@@ -1975,8 +1979,9 @@ impl Simulation {
         self.slot_buf = slot;
         let shots = &self.shots;
         let stopped = &mut self.stopped;
+        let (sleepers, mut cursor) = (&self.sleepers, 0);
         self.live.retain(|&i| {
-            let active = shots[i].is_active();
+            let active = sleepers.find(i, &mut cursor).is_some() || shots[i].is_active();
             if !active {
                 stopped.push(i);
             }

@@ -57,6 +57,8 @@ pub(super) struct Sleeper {
     pub radius: f64,
     /// Upper bound of its speed while asleep.
     speed: f64,
+    /// Its diameter.
+    pub diameter: f64,
 }
 
 impl Sleeper {
@@ -87,6 +89,7 @@ impl Sleeper {
             chord: (vec(&b, 0) - vec(&a, 0)) / (until - t),
             radius: path + stored + reach + 1e-9,
             speed,
+            diameter: 2.0 * s.body.radius,
         })
     }
 
@@ -170,13 +173,13 @@ impl Sleepers {
         self.list.iter()
     }
 
-    /// Whether shot `id` sleeps (`cursor` walks the list for ascending queries).
+    /// Shot `id` if it sleeps (`cursor` walks the list for ascending queries).
     #[inline]
-    pub fn sleeps(&self, id: usize, cursor: &mut usize) -> bool {
+    pub fn find(&self, id: usize, cursor: &mut usize) -> Option<&Sleeper> {
         while self.list.get(*cursor).is_some_and(|s| s.id < id) {
             *cursor += 1;
         }
-        self.list.get(*cursor).is_some_and(|s| s.id == id)
+        self.list.get(*cursor).filter(|s| s.id == id)
     }
 
     /// Takes out the sleepers `wake` picks, ascending by id.
