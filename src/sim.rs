@@ -1865,6 +1865,7 @@ impl Simulation {
             // Nobody awake, and no sleeper's ball met another's: they sleep through.
             (self.reach_buf, self.kicked_buf, self.slot_buf, self.acc_buf) =
                 (reach, kicked, slot, acc);
+            self.work.shot_windows_slept += self.sleepers.len() as u64;
             return Some(t1);
         }
         // The window end `reach` holds (the longest first, as `all` is).
