@@ -1712,17 +1712,23 @@ impl Simulation {
             .collect()
     }
 
-    /// Candidate pairs (global ids, sorted) for a window: the shots `idx` with their
-    /// reach-inflated radii `reach` ([`inflated_radius`]), plus every pair in contact;
+    /// Candidate pairs (global ids, sorted) for a window ending at `t1` (the longest): the
+    /// shots `idx` with their reach-inflated radii `reach` ([`inflated_radius`]), plus
+    /// every pair in contact;
     /// and the sleepers whose balls met anything, woken at the window's start (ascending).
     /// Their pairs are among the candidates, found with their balls (which hold their
     /// reach balls): `refine_candidates` tests the reach.
-    fn candidates(&mut self, idx: &[usize], reach: &ById<f64>) -> (Vec<(u32, u32)>, Vec<usize>) {
+    fn candidates(
+        &mut self,
+        idx: &[usize],
+        reach: &ById<f64>,
+        t1: f64,
+    ) -> (Vec<(u32, u32)>, Vec<usize>) {
         // The window's shots and the sleepers, ascending by id, each with its ball.
         let mut ids = Vec::with_capacity(idx.len() + self.sleepers.len());
         let mut centres = Vec::with_capacity(ids.capacity());
         let mut inflated = Vec::with_capacity(ids.capacity());
-        let t0 = self.t;
+        let (t0, h) = (self.t, t1 - self.t);
         // Which entries are sleepers, and which met another ball.
         let mut asleep = Vec::with_capacity(ids.capacity());
         let mut zs = self.sleepers.iter().peekable();
@@ -1730,7 +1736,7 @@ impl Simulation {
             while let Some(z) = zs.next_if(|z| z.id < i) {
                 ids.push(z.id);
                 centres.push(z.centre(t0));
-                inflated.push(z.radius);
+                inflated.push(z.radius(h));
                 asleep.push(true);
             }
             ids.push(i);
@@ -1741,7 +1747,7 @@ impl Simulation {
         for z in zs {
             ids.push(z.id);
             centres.push(z.centre(t0));
-            inflated.push(z.radius);
+            inflated.push(z.radius(h));
             asleep.push(true);
         }
         self.work.neighbour_searches += 1;
@@ -1798,7 +1804,7 @@ impl Simulation {
             self.shots[k.0 as usize].is_active() && self.shots[k.1 as usize].is_active()
         });
         self.admit(|t| t < t1);
-        self.wake_sleepers(t0, |z| z.due(t0, t1));
+        self.wake_sleepers(t0, |z| z.due(t1));
         loop {
             if let Some(end) = self.window_pass(t1) {
                 return end;
@@ -1852,7 +1858,7 @@ impl Simulation {
         }
         // Candidates for the longest window; shorter windows only need a subset of them.
         // Sleepers whose balls meet anything wake and join.
-        let (widest, woken) = self.candidates(&all, &reach);
+        let (widest, woken) = self.candidates(&all, &reach, t1);
         if !woken.is_empty() {
             for &i in &woken {
                 acc[i] = body_acc(&self.physics, &self.shots[i]);

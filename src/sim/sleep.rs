@@ -11,14 +11,13 @@
 //! The ball holds, for every window the shot sleeps through, the reach ball it would
 //! have had there ([`super::inflated_radius`] at its state at the window's start): the
 //! step's chord over the sleep, on which its centre moves, widened by how far the step's
-//! positions depart from the chord ([`DenseStep::bend`]) and by the largest reach a
-//! window up to `h_cap` long gives at the step's largest speed over the sleep.
+//! positions depart from the chord ([`DenseStep::bend`]) and by the reach the window's
+//! length gives at the step's largest speed over the sleep.
 //! So when no other shot's reach ball (and no other sleeper's ball) meets it, the
 //! sleeper has no pair within absolute reach: in the run without sleepers it would be an
 //! island of its own, not kicked, its state read off the same step, and its absence
 //! changes no other shot's pairs, flags or islands. A window wakes the sleepers whose
-//! ball meets anything, whose sleep ends in it, or that it is longer than their ball
-//! covers. A lone shot that had a pair in the window's broad phase does not fall asleep
+//! ball meets anything or whose sleep ends in it. A lone shot that had a pair in the window's broad phase does not fall asleep
 //! (it would wake at once: session 37 measured 2 M sleeps, most woken at the next
 //! window, against 0.5 M). When a shot went beyond its reach, the window's overlap
 //! search reads the sleepers' positions off their steps too; should a sleeper be in a
@@ -31,12 +30,6 @@ use crate::integrate::dopri::DenseStep;
 use crate::integrate::island::{Kept, Physics};
 use crate::state::ShotState;
 
-/// A sleeper's ball covers windows up to this many times as long as the window it fell
-/// asleep after (on the 1,000-shot nozzle stream cut: 1.0 wakes nearly every sleeper at
-/// the next window, whose length differs by rounding; 1.03-1.1 are alike; 1.25 and 1.5
-/// cost 1 % and 4 % more instructions, their larger balls meeting more).
-pub(super) const H_CAP: f64 = 1.05;
-
 /// A lone shot asleep: its kept step covers `since..until`.
 #[derive(Debug, Clone)]
 pub(super) struct Sleeper {
@@ -46,17 +39,16 @@ pub(super) struct Sleeper {
     since: f64,
     /// It sleeps through windows that end before this (at most its kept step's end).
     until: f64,
-    /// The longest window its ball covers.
-    h_cap: f64,
     /// Its position at `since`, and the velocity of its step's chord over the sleep:
     /// the ball at `t` is centred on `start + chord (t - since)`.
     start: Vec3,
     chord: Vec3,
-    /// The ball's radius: the reach ball it would have at any time it sleeps through
-    /// lies inside.
-    pub radius: f64,
-    /// Upper bound of its speed while asleep.
+    /// The ball's radius less the reach's motion terms (see [`Self::radius`]).
+    base: f64,
+    /// Upper bounds of its speed while asleep, and of its body-force acceleration at
+    /// 1.5 times that speed ([`super::body_acc`]).
     speed: f64,
+    acc: f64,
     /// Its diameter.
     pub diameter: f64,
 }
@@ -77,26 +69,30 @@ impl Sleeper {
         // The stored state is the step's output at `t`, up to rounding; counted anyway.
         let stored = (s.pos - vec(&a, 0)).norm();
         let speed = vec(&a, 3).norm().max(vec(&b, 3).norm()).max(s.vel.norm()) + bend;
-        let h_cap = H_CAP * h;
-        let acc = phys.forces.acceleration_bound(&s.body, 1.5 * speed + 1.0);
-        let reach = s.body.radius + 1.5 * speed * h_cap + 0.5 * acc * h_cap * h_cap + 1e-9;
         Some(Sleeper {
             id: s.id.0 as usize,
             since: t,
             until,
-            h_cap,
             start: vec(&a, 0),
             chord: (vec(&b, 0) - vec(&a, 0)) / (until - t),
-            radius: path + stored + reach + 1e-9,
+            // The reach's own 1e-9, and as much again for rounding.
+            base: path + stored + s.body.radius + 2e-9,
             speed,
+            acc: phys.forces.acceleration_bound(&s.body, 1.5 * speed + 1.0),
             diameter: 2.0 * s.body.radius,
         })
     }
 
-    /// Whether a window `t0..t1` must wake it: its sleep ends there, or its ball does
-    /// not cover a window that long.
-    pub fn due(&self, t0: f64, t1: f64) -> bool {
-        t1 >= self.until || t1 - t0 > self.h_cap
+    /// Whether a window ending at `t1` must wake it: its sleep ends there.
+    pub fn due(&self, t1: f64) -> bool {
+        t1 >= self.until
+    }
+
+    /// Its ball's radius in a window `h` long: the reach ([`super::inflated_radius`])
+    /// at its speed bound, widened by the step's departure from its chord.
+    #[inline]
+    pub fn radius(&self, h: f64) -> f64 {
+        self.base + 1.5 * self.speed * h + 0.5 * self.acc * h * h
     }
 
     /// Its ball's centre at `t`.
