@@ -136,6 +136,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         max_step: scene.integrator.max_step,
         method: scene.integrator.method,
         sliding: true,
+        blocks_min: island::BLOCKS_MIN,
     }
 }
 
@@ -1138,6 +1139,13 @@ impl Simulation {
     /// For comparisons: the outputs are the same byte for byte.
     pub fn with_sleepers(mut self, on: bool) -> Self {
         self.sleep = on;
+        self
+    }
+
+    /// Members from which an island's right-hand side is split over the threads
+    /// ([`Physics::blocks_min`]). For comparisons: the outputs are the same byte for byte.
+    pub fn with_blocks_min(mut self, n: usize) -> Self {
+        self.physics.blocks_min = n;
         self
     }
 

@@ -52,6 +52,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
         max_step: 1e-3,
         method: peenflow::integrate::island::Method::Adaptive,
         sliding: true,
+        blocks_min: peenflow::integrate::island::BLOCKS_MIN,
     }
 }
 

@@ -73,6 +73,10 @@ pub struct Physics {
     /// rolls) on the specimen (`ShotState::sliding`) instead of stepping through the pressed
     /// contact's oscillation (default `true`; `false` for comparisons).
     pub sliding: bool,
+    /// Members from which an island's right-hand side is split over the threads, a
+    /// block of at least this many per thread (default [`BLOCKS_MIN`]; the results are
+    /// the same to the bit either way).
+    pub blocks_min: usize,
 }
 
 /// Scale (m/s^2) of a sliding shot's lift-off margin (its load per mass, `-a_z`).
@@ -230,6 +234,88 @@ fn add_acc(dy: &mut [f64], i: usize, a: &Vec3) {
     add_at(dy, 6 * i + 3, a);
 }
 
+/// Members `lo..hi` of an island and their parts of a derivative `dy` (see
+/// [`load_state`] for the layout): `lin` their `(v, a)` rows, `ang` their angular
+/// accelerations (empty without spin).
+struct Part<'a> {
+    lo: usize,
+    hi: usize,
+    lin: &'a mut [f64],
+    ang: &'a mut [f64],
+}
+
+impl<'a> Part<'a> {
+    /// `dy` of `n` members cut at `bounds` (ascending, from 0 to `n`).
+    fn split(dy: &'a mut [f64], n: usize, bounds: &[usize]) -> Vec<Part<'a>> {
+        let (mut lin, mut ang) = dy.split_at_mut(6 * n);
+        let spin = !ang.is_empty();
+        bounds
+            .windows(2)
+            .map(|w| {
+                let (lo, hi) = (w[0], w[1]);
+                let (l, rest) = std::mem::take(&mut lin).split_at_mut(6 * (hi - lo));
+                lin = rest;
+                let (a, rest) =
+                    std::mem::take(&mut ang).split_at_mut(if spin { 3 * (hi - lo) } else { 0 });
+                ang = rest;
+                Part {
+                    lo,
+                    hi,
+                    lin: l,
+                    ang: a,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Default of [`Physics::blocks_min`].
+pub const BLOCKS_MIN: usize = 2048;
+
+/// How many blocks the right-hand side of an island of `n` members takes on the current
+/// thread pool: one per thread, each of at least [`Physics::blocks_min`] members (one
+/// block: a single pass on this thread).
+pub fn blocks(phys: &Physics, n: usize) -> usize {
+    rayon::current_num_threads()
+        .min(n / phys.blocks_min.max(1))
+        .max(1)
+}
+
+/// A large island's members cut into consecutive blocks, one per thread, for its
+/// right-hand side ([`Ctx::rhs`]); each block takes the pairs with a member in it, in
+/// the island's order (a pair across two blocks is evaluated in both, each adding its
+/// terms to its own member).
+struct Blocks {
+    bounds: Vec<usize>,
+    pairs: Vec<Vec<u32>>,
+}
+
+impl Blocks {
+    /// Blocks of at least `phys.blocks_min` members, as many as there are threads; none
+    /// (one pass) on one thread or for a smaller island.
+    fn plan(phys: &Physics, members: &[ShotState], pairs: &[IslandPair]) -> Option<Self> {
+        let n = members.len();
+        let k = blocks(phys, n);
+        if k < 2 {
+            return None;
+        }
+        let bounds: Vec<usize> = (0..=k).map(|b| b * n / k).collect();
+        let block = |i: u32| bounds.partition_point(|&x| x <= i as usize) - 1;
+        let mut lists = vec![Vec::new(); k];
+        for (q, p) in pairs.iter().enumerate() {
+            let (a, b) = (block(p.a), block(p.b));
+            lists[a].push(q as u32);
+            if b != a {
+                lists[b].push(q as u32);
+            }
+        }
+        Some(Blocks {
+            bounds,
+            pairs: lists,
+        })
+    }
+}
+
 /// Impacts (frictionless) whose start a step's quadrature misses, so that
 /// [`Ctx::correct_onsets`] corrects the step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -330,6 +416,8 @@ struct Ctx<'a> {
     phys: &'a Physics,
     /// Specimen onsets are located (adaptive method) rather than seen at step ends.
     onsets_located: bool,
+    /// A large island's blocks for its right-hand side on several threads.
+    blocks: Option<Blocks>,
 }
 
 impl Ctx<'_> {
@@ -425,7 +513,10 @@ impl Ctx<'_> {
             && hertz::contact_time(m_eff, k, RAMP_MIN_SPEED) > tc
     }
 
-    /// Right-hand side: `dy = (v, a)` for every member.
+    /// Right-hand side: `dy = (v, a)` for every member. A large island's members are
+    /// split into blocks, one per thread ([`Blocks`]): each block's derivatives receive
+    /// the same terms in the same order as in one pass over every member and pair, so
+    /// `dy` is the same to the bit for any thread count.
     #[allow(clippy::too_many_arguments)]
     fn rhs(
         &self,
@@ -438,16 +529,64 @@ impl Ctx<'_> {
         work: &mut WorkCounters,
     ) {
         work.rhs_evaluations += 1;
+        let n = members.len();
+        let Some(blocks) = &self.blocks else {
+            let (lin, ang) = dy.split_at_mut(6 * n);
+            let part = Part {
+                lo: 0,
+                hi: n,
+                lin,
+                ang,
+            };
+            self.rhs_part::<true>(members, pairs, 0..pairs.len(), pushing, t, y, part, work);
+            return;
+        };
+        // The first block on this thread, the others on the pool's (a worker that the
+        // scheduler's thread, not itself one, would otherwise wait for with all blocks).
+        let mut parts = Part::split(dy, n, &blocks.bounds).into_iter();
+        let mut works = vec![WorkCounters::default(); blocks.bounds.len() - 1];
+        let (w0, rest) = works.split_first_mut().expect("two blocks or more");
+        let first = parts.next().expect("two blocks or more");
+        rayon::in_place_scope(|s| {
+            for ((part, list), w) in parts.zip(&blocks.pairs[1..]).zip(rest) {
+                s.spawn(move |_| {
+                    let list = list.iter().map(|&q| q as usize);
+                    self.rhs_part::<false>(members, pairs, list, pushing, t, y, part, w);
+                });
+            }
+            let list = blocks.pairs[0].iter().map(|&q| q as usize);
+            self.rhs_part::<false>(members, pairs, list, pushing, t, y, first, w0);
+        });
+        for w in &works {
+            work.add(w);
+        }
+    }
+
+    /// [`Ctx::rhs`] for the members of `dy` and the pairs `list` (ascending, every pair
+    /// with a member in `dy`): a pair adds its terms to its members in `dy` and is counted
+    /// by the part that holds its first member. `ALL`: `dy` holds every member.
+    #[allow(clippy::too_many_arguments)]
+    fn rhs_part<const ALL: bool>(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        list: impl Iterator<Item = usize>,
+        pushing: Option<&Pushing>,
+        t: f64,
+        y: &[f64],
+        dy: Part<'_>,
+        work: &mut WorkCounters,
+    ) {
         let c = &self.phys.contacts;
         let n = members.len();
         let fr = c.friction;
-        if fr.is_some() {
-            dy[6 * n..].fill(0.0);
-        }
-        for (i, m) in members.iter().enumerate() {
-            let d = &mut dy[6 * i..6 * i + 6];
+        let Part { lo, hi, lin, ang } = dy;
+        ang.fill(0.0);
+        let owns = |i: usize| ALL || (lo..hi).contains(&i);
+        for i in lo..hi {
+            let m = &members[i];
             if !moving(m, t) {
-                d.fill(0.0);
+                lin[6 * (i - lo)..6 * (i - lo) + 6].fill(0.0);
                 continue;
             }
             let p = pos(y, i);
@@ -465,10 +604,10 @@ impl Ctx<'_> {
                     let (ft, _) = rolling_friction(m.body.mass, &a, mu);
                     a += ft / m.body.mass;
                     let r_c = Vec3::new(0.0, 0.0, -m.body.radius);
-                    add_alpha(dy, n, i, &(r_c.cross(&ft) / inertia));
+                    add_at(ang, 3 * (i - lo), &(r_c.cross(&ft) / inertia));
                 }
-                let d = &mut dy[6 * i..6 * i + 6];
-                d.copy_from_slice(&[v.x, v.y, 0.0, a.x, a.y, 0.0]);
+                lin[6 * (i - lo)..6 * (i - lo) + 6]
+                    .copy_from_slice(&[v.x, v.y, 0.0, a.x, a.y, 0.0]);
                 continue;
             }
             if let Some(sp) = &c.specimen {
@@ -511,7 +650,7 @@ impl Ctx<'_> {
                         );
                         let ft = friction::tangential_force(fr.specimen, f, &slip, gamma);
                         a += ft / m.body.mass;
-                        add_alpha(dy, n, i, &(r_c.cross(&ft) / inertia));
+                        add_at(ang, 3 * (i - lo), &(r_c.cross(&ft) / inertia));
                     }
                 }
             }
@@ -539,25 +678,23 @@ impl Ctx<'_> {
                         );
                         let ft = friction::tangential_force(fr.wall, f, &slip, gamma);
                         a += ft / m.body.mass;
-                        add_alpha(dy, n, i, &(r_c.cross(&ft) / inertia));
+                        add_at(ang, 3 * (i - lo), &(r_c.cross(&ft) / inertia));
                     }
                 }
             }
-            let d = &mut dy[6 * i..6 * i + 6];
-            d[0] = v.x;
-            d[1] = v.y;
-            d[2] = v.z;
-            d[3] = a.x;
-            d[4] = a.y;
-            d[5] = a.z;
+            lin[6 * (i - lo)..6 * (i - lo) + 6].copy_from_slice(&[v.x, v.y, v.z, a.x, a.y, a.z]);
         }
         if let Some(pc) = &c.pair {
-            for (q, pr) in pairs.iter().enumerate() {
+            for q in list {
+                let pr = &pairs[q];
                 let (i, j) = (pr.a as usize, pr.b as usize);
                 if !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
-                work.pair_contact_checks += 1;
+                let (own_i, own_j) = (owns(i), owns(j));
+                if own_i {
+                    work.pair_contact_checks += 1;
+                }
                 let (mi, mj) = (&members[i].body, &members[j].body);
                 let dpos = pos(y, j) - pos(y, i);
                 if surely_apart(&dpos, mi.radius + mj.radius) {
@@ -580,11 +717,17 @@ impl Ctx<'_> {
                 } else {
                     pc.law.force(k, m_eff, overlap, rate)
                 };
-                add_acc(dy, i, &(nrm * (-f / mi.mass)));
-                add_acc(dy, j, &(nrm * (f / mj.mass)));
+                if own_i {
+                    add_at(lin, 6 * (i - lo) + 3, &(nrm * (-f / mi.mass)));
+                }
+                if own_j {
+                    add_at(lin, 6 * (j - lo) + 3, &(nrm * (f / mj.mass)));
+                }
                 let f = f.max(0.0);
                 if let Some(fr) = &fr {
-                    work.friction_calls += 1;
+                    if own_i {
+                        work.friction_calls += 1;
+                    }
                     let (ri, rj, slip) =
                         pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
                     let gamma = friction::stick_damping(
@@ -593,14 +736,16 @@ impl Ctx<'_> {
                         overlap,
                     );
                     let ft = friction::tangential_force(fr.shot, f, &slip, gamma);
-                    add_acc(dy, i, &(ft / mi.mass));
-                    add_acc(dy, j, &(ft / -mj.mass));
-                    let (ii, ij) = (
-                        INERTIA_FACTOR * mi.mass * mi.radius * mi.radius,
-                        INERTIA_FACTOR * mj.mass * mj.radius * mj.radius,
-                    );
-                    add_alpha(dy, n, i, &(ri.cross(&ft) / ii));
-                    add_alpha(dy, n, j, &(rj.cross(&(-ft)) / ij));
+                    if own_i {
+                        add_at(lin, 6 * (i - lo) + 3, &(ft / mi.mass));
+                        let ii = INERTIA_FACTOR * mi.mass * mi.radius * mi.radius;
+                        add_at(ang, 3 * (i - lo), &(ri.cross(&ft) / ii));
+                    }
+                    if own_j {
+                        add_at(lin, 6 * (j - lo) + 3, &(ft / -mj.mass));
+                        let ij = INERTIA_FACTOR * mj.mass * mj.radius * mj.radius;
+                        add_at(ang, 3 * (j - lo), &(rj.cross(&(-ft)) / ij));
+                    }
                 }
             }
         }
@@ -1980,6 +2125,7 @@ fn advance_adaptive(
     let ctx = Ctx {
         phys,
         onsets_located: true,
+        blocks: Blocks::plan(phys, members, pairs),
     };
     let n = members.len();
     // The members' states hold at `t0`: a step kept from an earlier window is stale.
@@ -2567,6 +2713,7 @@ fn advance_verlet(
     let ctx = Ctx {
         phys,
         onsets_located: false,
+        blocks: Blocks::plan(phys, members, pairs),
     };
     let n = members.len();
     // With friction the shots spin: angular velocities are kicked as the velocities are.

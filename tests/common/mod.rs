@@ -65,6 +65,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
         max_step: 1e-3,
         method: peenflow::integrate::island::Method::Adaptive,
         sliding: true,
+        blocks_min: peenflow::integrate::island::BLOCKS_MIN,
     }
 }
 
