@@ -74,15 +74,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
     if let Some(seed) = a.seed {
         scene.seed = seed;
     }
-    if let Some(n) = a.threads {
-        if n == 0 {
-            bail!("--threads 0: allowed 1 or more");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("cannot set up the worker threads")?;
-    }
+    set_threads(a.threads)?;
     // Everything that can reject the scene (incl. shot placement) runs before the output
     // directory is touched.
     let effects = scene.effects();
@@ -284,16 +276,19 @@ fn export(a: ExportArgs) -> Result<()> {
     Ok(())
 }
 
+/// The worker threads: `n` (default: one per core), this thread one of them. The run's
+/// scheduler then works among them instead of waiting beside them: a pool of `n` workers
+/// besides it put three threads on two cores whenever the scheduler's thread worked while
+/// the idle workers looked for jobs.
 fn set_threads(n: Option<usize>) -> Result<()> {
-    if let Some(n) = n {
-        if n == 0 {
-            bail!("--threads 0: allowed 1 or more");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("cannot set up the worker threads")?;
+    if n == Some(0) {
+        bail!("--threads 0: allowed 1 or more");
     }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n.unwrap_or(0))
+        .use_current_thread()
+        .build_global()
+        .context("cannot set up the worker threads")?;
     Ok(())
 }
 

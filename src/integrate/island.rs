@@ -32,6 +32,7 @@ use crate::integrate::dopri::{DenseStep, Dopri5, step_factor};
 use crate::integrate::{add_at, vec_at};
 use crate::record::{Impact, RunEvent};
 use crate::state::{Domain, ShotState, ShotStatus};
+use std::ops::Range;
 
 /// Time-integration method.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -247,25 +248,45 @@ struct Part<'a> {
 impl<'a> Part<'a> {
     /// `dy` of `n` members cut at `bounds` (ascending, from 0 to `n`).
     fn split(dy: &'a mut [f64], n: usize, bounds: &[usize]) -> Vec<Part<'a>> {
-        let (mut lin, mut ang) = dy.split_at_mut(6 * n);
-        let spin = !ang.is_empty();
-        bounds
-            .windows(2)
-            .map(|w| {
-                let (lo, hi) = (w[0], w[1]);
-                let (l, rest) = std::mem::take(&mut lin).split_at_mut(6 * (hi - lo));
-                lin = rest;
-                let (a, rest) =
-                    std::mem::take(&mut ang).split_at_mut(if spin { 3 * (hi - lo) } else { 0 });
-                ang = rest;
-                Part {
-                    lo,
-                    hi,
-                    lin: l,
-                    ang: a,
-                }
+        let (lin, ang) = dy.split_at_mut(6 * n);
+        let spin = if ang.is_empty() { 0 } else { 3 };
+        cut(lin, bounds, 6)
+            .into_iter()
+            .zip(cut(ang, bounds, spin))
+            .zip(bounds.windows(2))
+            .map(|((lin, ang), w)| Part {
+                lo: w[0],
+                hi: w[1],
+                lin,
+                ang,
             })
             .collect()
+    }
+}
+
+/// `v` cut into the consecutive parts `width * (bounds[b + 1] - bounds[b])` long.
+fn cut<'a, T>(mut v: &'a mut [T], bounds: &[usize], width: usize) -> Vec<&'a mut [T]> {
+    bounds
+        .windows(2)
+        .map(|w| {
+            let (part, rest) = std::mem::take(&mut v).split_at_mut(width * (w[1] - w[0]));
+            v = rest;
+            part
+        })
+        .collect()
+}
+
+/// Touching pairs of `pairs` whose shots are apart at `y` (`radius`: a member's) stop
+/// touching.
+fn pair_separations(pairs: &mut [IslandPair], radius: impl Fn(usize) -> f64, y: &[f64]) {
+    for pr in pairs.iter_mut() {
+        if pr.touching {
+            let (i, j) = (pr.a as usize, pr.b as usize);
+            let gap = (pos(y, j) - pos(y, i)).norm() - radius(i) - radius(j);
+            if gap > 0.0 {
+                pr.touching = false;
+            }
+        }
     }
 }
 
@@ -286,8 +307,13 @@ pub fn blocks(phys: &Physics, n: usize) -> usize {
 /// the island's order (a pair across two blocks is evaluated in both, each adding its
 /// terms to its own member).
 struct Blocks {
+    /// Members `bounds[b]..bounds[b + 1]` form block `b`.
     bounds: Vec<usize>,
+    /// Block `b`'s pairs for the right-hand side (ascending).
     pairs: Vec<Vec<u32>>,
+    /// The pairs cut into as many consecutive ranges, for the passes whose results are
+    /// per pair or a minimum (any cut gives the same).
+    pair_bounds: Vec<usize>,
 }
 
 impl Blocks {
@@ -309,9 +335,55 @@ impl Blocks {
                 lists[b].push(q as u32);
             }
         }
+        let pair_bounds = (0..=k).map(|b| b * pairs.len() / k).collect();
         Some(Blocks {
             bounds,
             pairs: lists,
+            pair_bounds,
+        })
+    }
+
+    /// `f(b, item b)` for every block `b` and its item, the first on this thread and the
+    /// others on the pool's (a calling thread outside the pool, as a library user's or a
+    /// test's may be, would otherwise wait idle); the results in block order.
+    fn run<P: Send, T: Send>(&self, items: Vec<P>, f: impl Fn(usize, P) -> T + Sync) -> Vec<T> {
+        let mut out: Vec<Option<T>> = items.iter().map(|_| None).collect();
+        let mut items = items.into_iter();
+        let first = items.next().expect("two blocks or more");
+        let (o0, rest) = out.split_first_mut().expect("two blocks or more");
+        let f = &f;
+        rayon::in_place_scope(|s| {
+            for (b, (item, o)) in items.zip(rest).enumerate() {
+                s.spawn(move |_| *o = Some(f(b + 1, item)));
+            }
+            *o0 = Some(f(0, first));
+        });
+        out.into_iter()
+            .map(|o| o.expect("BUG: a block did not run"))
+            .collect()
+    }
+
+    /// `f(members, pairs)` for each block's members and its range of pairs, folded by
+    /// `op` from `init` in block order (callers fold by `min` or `max`: exact in any order
+    /// but for the sign of a zero, which no caller reads).
+    fn fold(
+        &self,
+        init: f64,
+        op: fn(f64, f64) -> f64,
+        f: impl Fn(Range<usize>, Range<usize>) -> f64 + Sync,
+    ) -> f64 {
+        self.each(f).into_iter().fold(init, op)
+    }
+
+    /// `f(members, pairs)` for each block's members and its range of pairs, in block
+    /// order.
+    fn each<T: Send>(&self, f: impl Fn(Range<usize>, Range<usize>) -> T + Sync) -> Vec<T> {
+        let k = self.bounds.len() - 1;
+        self.run(vec![(); k], |b, ()| {
+            f(
+                self.bounds[b]..self.bounds[b + 1],
+                self.pair_bounds[b]..self.pair_bounds[b + 1],
+            )
         })
     }
 }
@@ -541,21 +613,12 @@ impl Ctx<'_> {
             self.rhs_part::<true>(members, pairs, 0..pairs.len(), pushing, t, y, part, work);
             return;
         };
-        // The first block on this thread, the others on the pool's (a worker that the
-        // scheduler's thread, not itself one, would otherwise wait for with all blocks).
-        let mut parts = Part::split(dy, n, &blocks.bounds).into_iter();
-        let mut works = vec![WorkCounters::default(); blocks.bounds.len() - 1];
-        let (w0, rest) = works.split_first_mut().expect("two blocks or more");
-        let first = parts.next().expect("two blocks or more");
-        rayon::in_place_scope(|s| {
-            for ((part, list), w) in parts.zip(&blocks.pairs[1..]).zip(rest) {
-                s.spawn(move |_| {
-                    let list = list.iter().map(|&q| q as usize);
-                    self.rhs_part::<false>(members, pairs, list, pushing, t, y, part, w);
-                });
-            }
-            let list = blocks.pairs[0].iter().map(|&q| q as usize);
-            self.rhs_part::<false>(members, pairs, list, pushing, t, y, first, w0);
+        let parts = Part::split(dy, n, &blocks.bounds);
+        let works = blocks.run(parts, |b, part| {
+            let mut w = WorkCounters::default();
+            let list = blocks.pairs[b].iter().map(|&q| q as usize);
+            self.rhs_part::<false>(members, pairs, list, pushing, t, y, part, &mut w);
+            w
         });
         for w in &works {
             work.add(w);
@@ -785,10 +848,32 @@ impl Ctx<'_> {
         y: &[f64],
         regions: bool,
     ) -> f64 {
+        let part = |ms: Range<usize>, ps: Range<usize>| {
+            self.margin_part(members, pairs, (ms, ps), pushing, t, y, regions)
+        };
+        match &self.blocks {
+            None => part(0..members.len(), 0..pairs.len()),
+            Some(blocks) => blocks.fold(f64::INFINITY, f64::min, part),
+        }
+    }
+
+    /// [`Ctx::margin_of`] over the members and pairs in `ranges`.
+    #[allow(clippy::too_many_arguments)]
+    fn margin_part(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        (ms, ps): (Range<usize>, Range<usize>),
+        pushing: &Pushing,
+        t: f64,
+        y: &[f64],
+        regions: bool,
+    ) -> f64 {
         let field = self.phys.forces.field.as_ref().filter(|_| regions);
         let specimen = self.phys.contacts.specimen.as_ref();
         let mut g = f64::INFINITY;
-        for (i, m) in members.iter().enumerate() {
+        for i in ms {
+            let m = &members[i];
             if !moving(m, t) {
                 continue;
             }
@@ -826,7 +911,8 @@ impl Ctx<'_> {
                 g = g.min(KINK_SCALE * self.wall_margin(m, i, y, pushing.wall[i]));
             }
         }
-        for (q, pr) in pairs.iter().enumerate() {
+        for q in ps {
+            let pr = &pairs[q];
             if pushing.pairs[q] {
                 g = g.min(KINK_SCALE * self.pair_unloading(members, pr, y));
             }
@@ -925,14 +1011,34 @@ impl Ctx<'_> {
                     && self.phys.contacts.specimen.is_some()
                     && self.specimen_unloading(m, i, y) > 0.0
             }));
-        out.pairs.clear();
-        out.pairs.extend(pairs.iter().map(|pr| {
-            pr.touching
-                && t - pr.onset <= 3.0 * pr.contact_time
-                && moving(&members[pr.a as usize], t)
-                && moving(&members[pr.b as usize], t)
-                && self.pair_unloading(members, pr, y) > 0.0
-        }));
+        // Per pair: pushing, and approaching at an impact's speed.
+        let flags = |ps: Range<usize>, push: &mut [bool], close: &mut [bool]| {
+            for (k, pr) in pairs[ps].iter().enumerate() {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                let both = moving(&members[i], t) && moving(&members[j], t);
+                push[k] = pr.touching
+                    && t - pr.onset <= 3.0 * pr.contact_time
+                    && both
+                    && self.pair_unloading(members, pr, y) > 0.0;
+                close[k] = !pr.touching && both && pair_gap(members, pr, y) > 0.0 && {
+                    let d = pos(y, j) - pos(y, i);
+                    -(vel(y, j) - vel(y, i)).dot(&d) >= RAMP_MIN_SPEED * d.norm()
+                };
+            }
+        };
+        for v in [&mut out.pairs, &mut out.approaching] {
+            v.clear();
+            v.resize(pairs.len(), false);
+        }
+        match &self.blocks {
+            None => flags(0..pairs.len(), &mut out.pairs, &mut out.approaching),
+            Some(blocks) => {
+                let b = &blocks.pair_bounds;
+                let parts = cut(&mut out.pairs, b, 1).into_iter();
+                let parts = parts.zip(cut(&mut out.approaching, b, 1)).collect();
+                blocks.run(parts, |k, (push, close)| flags(b[k]..b[k + 1], push, close));
+            }
+        }
         out.wall.clear();
         out.wall.extend(members.iter().enumerate().map(|(i, m)| {
             if !moving(m, t) || self.phys.contacts.wall.is_none() {
@@ -968,18 +1074,6 @@ impl Ctx<'_> {
             } else {
                 WallEvent::None
             }
-        }));
-        out.approaching.clear();
-        out.approaching.extend(pairs.iter().map(|pr| {
-            let (i, j) = (pr.a as usize, pr.b as usize);
-            !pr.touching
-                && moving(&members[i], t)
-                && moving(&members[j], t)
-                && pair_gap(members, pr, y) > 0.0
-                && {
-                    let d = pos(y, j) - pos(y, i);
-                    -(vel(y, j) - vel(y, i)).dot(&d) >= RAMP_MIN_SPEED * d.norm()
-                }
         }));
     }
 
@@ -1559,8 +1653,33 @@ impl Ctx<'_> {
         t: f64,
         y: &[f64],
     ) -> Option<String> {
+        let part = |ms: Range<usize>, ps: Range<usize>| {
+            (
+                self.member_overlap(members, ms, t, y),
+                self.pair_overlap(members, &pairs[ps], t, y),
+            )
+        };
+        let Some(blocks) = &self.blocks else {
+            let (m, p) = part(0..members.len(), 0..pairs.len());
+            return m.or(p);
+        };
+        // The first violation of the one pass: the members', then the pairs'.
+        let found = blocks.each(part);
+        let (ms, ps): (Vec<_>, Vec<_>) = found.into_iter().unzip();
+        ms.into_iter().chain(ps).flatten().next()
+    }
+
+    /// [`Ctx::overlap_violation`] of the members `ms` with the specimen and the wall.
+    fn member_overlap(
+        &self,
+        members: &[ShotState],
+        ms: Range<usize>,
+        t: f64,
+        y: &[f64],
+    ) -> Option<String> {
         let c = &self.phys.contacts;
-        for (i, m) in members.iter().enumerate() {
+        for i in ms {
+            let m = &members[i];
             if !moving(m, t) {
                 continue;
             }
@@ -1589,7 +1708,18 @@ impl Ctx<'_> {
                 ));
             }
         }
-        if c.pair.is_some() {
+        None
+    }
+
+    /// [`Ctx::overlap_violation`] of the pairs `pairs`.
+    fn pair_overlap(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        t: f64,
+        y: &[f64],
+    ) -> Option<String> {
+        if self.phys.contacts.pair.is_some() {
             for pr in pairs {
                 let (i, j) = (pr.a as usize, pr.b as usize);
                 if !moving(&members[i], t) || !moving(&members[j], t) {
@@ -1655,9 +1785,23 @@ impl Ctx<'_> {
 
     /// Separations: contacts whose overlap ended during the last step.
     fn update_separations(&self, members: &mut [ShotState], pairs: &mut [IslandPair], y: &[f64]) {
+        let Some(blocks) = &self.blocks else {
+            self.separations_of(members, 0, y);
+            let radius = |i: usize| members[i].body.radius;
+            return pair_separations(pairs, radius, y);
+        };
+        let (b, pb) = (&blocks.bounds, &blocks.pair_bounds);
+        blocks.run(cut(members, b, 1), |k, ms| self.separations_of(ms, b[k], y));
+        let members = &*members;
+        let radius = |i: usize| members[i].body.radius;
+        blocks.run(cut(pairs, pb, 1), |_, ps| pair_separations(ps, radius, y));
+    }
+
+    /// [`Ctx::update_separations`] of the members `ms`, the first of them member `lo`.
+    fn separations_of(&self, ms: &mut [ShotState], lo: usize, y: &[f64]) {
         let c = &self.phys.contacts;
-        for (i, m) in members.iter_mut().enumerate() {
-            let p = pos(y, i);
+        for (k, m) in ms.iter_mut().enumerate() {
+            let p = pos(y, lo + k);
             if m.on_specimen
                 && let Some(sp) = &c.specimen
                 && sp.gap(&p, m.body.radius) > 0.0
@@ -1674,24 +1818,32 @@ impl Ctx<'_> {
                 }
             }
         }
-        for pr in pairs.iter_mut() {
-            if pr.touching {
-                let (i, j) = (pr.a as usize, pr.b as usize);
-                let gap = (pos(y, j) - pos(y, i)).norm()
-                    - members[i].body.radius
-                    - members[j].body.radius;
-                if gap > 0.0 {
-                    pr.touching = false;
-                }
-            }
-        }
     }
 
     /// Scaled error norm (max over moving members and components); `<= 1` is acceptable.
     fn error_norm(&self, members: &[ShotState], t: f64, y: &[f64], err: &[f64]) -> f64 {
+        let part = |ms: Range<usize>, _| self.error_part(members, ms, t, y, err);
+        match &self.blocks {
+            None => part(0..members.len(), 0..0),
+            // The largest of numbers `>= +0` (NaN ignored by `f64::max`): exact in any
+            // order.
+            Some(blocks) => blocks.fold(0.0, f64::max, part),
+        }
+    }
+
+    /// [`Ctx::error_norm`] over the members `ms`.
+    fn error_part(
+        &self,
+        members: &[ShotState],
+        ms: Range<usize>,
+        t: f64,
+        y: &[f64],
+        err: &[f64],
+    ) -> f64 {
         let tol = self.phys.tolerance;
         let mut e: f64 = 0.0;
-        for (i, m) in members.iter().enumerate() {
+        for i in ms {
+            let m = &members[i];
             if !moving(m, t) {
                 continue;
             }
@@ -2151,6 +2303,11 @@ fn advance_adaptive(
         && members
             .iter()
             .any(|m| m.is_active() && m.t_start >= t0 && m.t_start > 0.0);
+    // Whether a member enters at `t0` or later (held entries only move later), and
+    // whether eddies end steps: the scans for them at every step are skipped otherwise
+    // (a status never turns active again, and eddies come with turbulence only).
+    let later = members.iter().any(|m| m.is_active() && m.t_start >= t0);
+    let gusty = phys.forces.turbulence.is_some();
     let mut no_pass_at = f64::NAN;
     let spin = phys.contacts.friction.is_some();
     let width = if spin { 9 } else { 6 };
@@ -2212,7 +2369,7 @@ fn advance_adaptive(
             h = t1 - t;
             lands_at = Some(t1);
         }
-        for m in members.iter() {
+        for m in members.iter().filter(|_| later || gusty) {
             if m.is_active() && m.t_start > t && m.t_start < t + h {
                 h = m.t_start - t;
                 lands_at = Some(m.t_start);
@@ -2473,9 +2630,10 @@ fn advance_adaptive(
         // sees it clamped: the difference is of the margin's order (1e-9 R of overlap),
         // so the stage is reused. (Evaluating it again after such steps cost the dense
         // bed, whose one island meets a kink every few steps, 7 % more right-hand sides.)
-        if members
-            .iter()
-            .any(|m| m.is_active() && m.t_start > t_prev && m.t_start <= t)
+        if later
+            && members
+                .iter()
+                .any(|m| m.is_active() && m.t_start > t_prev && m.t_start <= t)
         {
             dopri.invalidate(); // a shot entered: the right-hand side changed
         }
