@@ -1142,8 +1142,9 @@ impl Simulation {
         self
     }
 
-    /// Members from which an island's right-hand side is split over the threads
-    /// ([`Physics::blocks_min`]). For comparisons: the outputs are the same byte for byte.
+    /// Members from which an island's step passes (forces, margins, error norm) are split
+    /// over the threads ([`Physics::blocks_min`]). For comparisons: the outputs are the
+    /// same byte for byte.
     pub fn with_blocks_min(mut self, n: usize) -> Self {
         self.physics.blocks_min = n;
         self

@@ -74,9 +74,9 @@ pub struct Physics {
     /// rolls) on the specimen (`ShotState::sliding`) instead of stepping through the pressed
     /// contact's oscillation (default `true`; `false` for comparisons).
     pub sliding: bool,
-    /// Members from which an island's right-hand side is split over the threads, a
-    /// block of at least this many per thread (default [`BLOCKS_MIN`]; the results are
-    /// the same to the bit either way).
+    /// Members from which an island's right-hand side, event margins, error norm and
+    /// step-end passes are split over the threads, a block of at least this many per
+    /// thread (default [`BLOCKS_MIN`]; the results are the same to the bit either way).
     pub blocks_min: usize,
 }
 
