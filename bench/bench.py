@@ -14,7 +14,9 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggg
               (peenflow's default tolerance must give at least the impact-speed accuracy of
               a fixed 20 ns step, LIGGGHTS' step for these shots); the stream scenes
               run in five interleaved rounds (LIGGGHTS, then each peenflow variant),
-              each round's matched ratio is printed, and the fastest run of each counts
+              each round's matched ratio is printed, and the fastest run of each counts;
+              the dense bed also with LIGGGHTS' friction, and squeezed (dense.in
+              `squeeze = 1e-6`) with friction against LIGGGHTS' squeezed run
   --check-matched 'KEY = VALUE; ...'  only the accuracy checks of --liggghts, for the
               [integrator] keys given instead of the matched setting (no LIGGGHTS needed)
   --liggghts-scale  the stream at LIGGGHTS' accuracy for N = 10,000, 50,000 and 200,000
@@ -309,6 +311,16 @@ def liggghts(tmp):
     open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
     ps_win = peenflow(win_scene, 1, tmp, "ps_win")
     bed = peenflow(os.path.join(SCENES, "bed_10k.toml"), 1, tmp, "bed")
+    # The bed with LIGGGHTS' friction, and squeezed as dense.in's `squeeze = 1e-6` (all
+    # twelve neighbours preloaded by 0.8 nm; its contacts chatter at mm/s).
+    bed_text = open(os.path.join(SCENES, "bed_10k.toml")).read()
+    bed_fric_scene = os.path.join(tmp, "bed_friction.toml")
+    open(bed_fric_scene, "w").write(bed_text.replace("[effects]", fric + "[effects]"))
+    bed_fric = peenflow(bed_fric_scene, 1, tmp, "bed_fric")
+    bed_sq_scene = os.path.join(tmp, "bed_squeezed_friction.toml")
+    open(bed_sq_scene, "w").write(bed_text.replace("layers = 20\n", "layers = 20\nsqueeze = 1e-6\n").replace("[effects]", fric + "[effects]"))
+    bed_sq = peenflow(bed_sq_scene, 1, tmp, "bed_sq")
+    results["dense_sq"] = liggghts_loop("dense_sq", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16", "-var", "squeeze", "1e-6"], 2)
     matched_checks(tmp, matched, fric)
     print("| scene | LIGGGHTS loop s (1 core, 20 ns steps) | peenflow wall s (1 thread) | LIGGGHTS / peenflow |")
     print("|---|---|---|---|")
@@ -319,6 +331,8 @@ def liggghts(tmp):
     print(f"| same, window scheduler, default accuracy | {lg:.2f} | {ps_win['wall']:.2f} | {lg / ps_win['wall']:.2f} |")
     # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
     print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")
+    print(f"| same, with LIGGGHTS' friction (0.3) | {results['dense']:.2f} | {bed_fric['wall']:.2f} | {results['dense'] / bed_fric['wall']:.2f} |")
+    print(f"| same, squeezed (dense.in `squeeze = 1e-6`), with friction 0.3 | {results['dense_sq']:.2f} | {bed_sq['wall']:.2f} | {results['dense_sq'] / bed_sq['wall']:.2f} |")
 
 
 def pack_scene(tmp, text, n, width, tag):
