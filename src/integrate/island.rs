@@ -965,39 +965,8 @@ impl Ctx<'_> {
         }
     }
 
-    /// [`kink_matters`] for a touching pair.
-    fn pair_kink_matters(&self, members: &[ShotState], pr: &IslandPair, y: &[f64], h: f64) -> bool {
-        let Some(pc) = &self.phys.contacts.pair else {
-            return false;
-        };
-        let (i, j) = (pr.a as usize, pr.b as usize);
-        let (bi, bj) = (members[i].body, members[j].body);
-        let d = pos(y, j) - pos(y, i);
-        let dist = d.norm();
-        if dist == 0.0 {
-            return true;
-        }
-        let closing = -(vel(y, j) - vel(y, i)).dot(&(d / dist));
-        let k = pc
-            .law
-            .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
-        let mu = self.phys.contacts.friction.map_or(0.0, |f| f.shot);
-        let overlap = bi.radius + bj.radius - dist;
-        let size = 2.0 * bi.radius.min(bj.radius);
-        let m_eff = effective_mass(bi.mass, bj.mass);
-        kink_matters(
-            self.phys.tolerance,
-            k,
-            m_eff,
-            (overlap, closing),
-            h,
-            mu,
-            size,
-        )
-    }
-
-    /// [`HertzLaw::unloading_margin`] of a touching pair.
-    fn pair_unloading(&self, members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
+    /// A touching pair's contact now (`None` at zero distance).
+    fn pair_now(&self, members: &[ShotState], pr: &IslandPair, y: &[f64]) -> Option<PairNow<'_>> {
         let pc = self
             .phys
             .contacts
@@ -1009,18 +978,39 @@ impl Ctx<'_> {
         let d = pos(y, j) - pos(y, i);
         let dist = d.norm();
         if dist == 0.0 {
-            return f64::INFINITY;
+            return None;
         }
         let closing = -(vel(y, j) - vel(y, i)).dot(&(d / dist));
         let k = pc
             .law
             .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
-        pc.law.unloading_margin(
+        Some(PairNow {
+            law: &pc.law,
             k,
-            effective_mass(bi.mass, bj.mass),
-            bi.radius + bj.radius - dist,
+            m_eff: effective_mass(bi.mass, bj.mass),
+            overlap: bi.radius + bj.radius - dist,
             closing,
-        )
+            size: 2.0 * bi.radius.min(bj.radius),
+        })
+    }
+
+    /// [`HertzLaw::unloading_margin`] of a touching pair.
+    fn pair_unloading(&self, members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
+        self.pair_now(members, pr, y).map_or(f64::INFINITY, |c| {
+            c.law.unloading_margin(c.k, c.m_eff, c.overlap, c.closing)
+        })
+    }
+
+    /// Whether a touching pair pushes ([`HertzLaw::unloading_margin`] positive) with a
+    /// kink that matters to a step of `h` ([`kink_matters`]).
+    fn pair_pushes(&self, members: &[ShotState], pr: &IslandPair, y: &[f64], h: f64) -> bool {
+        let Some(c) = self.pair_now(members, pr, y) else {
+            return false;
+        };
+        let mu = self.phys.contacts.friction.map_or(0.0, |f| f.shot);
+        let (tol, state) = (self.phys.tolerance, (c.overlap, c.closing));
+        c.law.unloading_margin(c.k, c.m_eff, c.overlap, c.closing) > 0.0
+            && kink_matters(tol, c.k, c.m_eff, state, h, mu, c.size)
     }
 
     /// The contacts still pushing at the start of a step of `h` (unloading margin
@@ -1065,8 +1055,7 @@ impl Ctx<'_> {
                 push[k] = pr.touching
                     && t - pr.onset <= 3.0 * pr.contact_time
                     && both
-                    && self.pair_unloading(members, pr, y) > 0.0
-                    && self.pair_kink_matters(members, pr, y, h);
+                    && self.pair_pushes(members, pr, y, h);
                 close[k] = !pr.touching && both && pair_gap(members, pr, y) > 0.0 && {
                     let d = pos(y, j) - pos(y, i);
                     -(vel(y, j) - vel(y, i)).dot(&d) >= RAMP_MIN_SPEED * d.norm()
@@ -2069,6 +2058,21 @@ fn hold_entries(
 fn pair_gap(members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
     let (i, j) = (pr.a as usize, pr.b as usize);
     (pos(y, j) - pos(y, i)).norm() - members[i].body.radius - members[j].body.radius
+}
+
+/// A touching pair's contact at a state (`Ctx::pair_now`).
+struct PairNow<'a> {
+    law: &'a HertzLaw,
+    /// Hertz stiffness, N/m^1.5.
+    k: f64,
+    /// Effective mass, kg.
+    m_eff: f64,
+    /// Overlap, m.
+    overlap: f64,
+    /// Closing speed, m/s.
+    closing: f64,
+    /// The smaller diameter, m.
+    size: f64,
 }
 
 /// Contacts still pushing at the start of a step (see `Ctx::pushing`).
