@@ -3,7 +3,7 @@
 use clap::Parser;
 
 // mimalloc: the event scheduler's clusters allocate small buffers per contact; with the
-// system allocator that was 3 % of the pack stream's instructions (docs/performance.md).
+// system allocator that was 3 % of the pack stream's instructions (docs/performance-history.md).
 #[cfg(feature = "mimalloc")]
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;

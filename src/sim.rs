@@ -403,7 +403,7 @@ fn paths_keep_apart(a: &Path, b: &Path, sigma: f64) -> bool {
 }
 
 /// Sub-windows an island's window is cut into (see [`advance_split`]). Measured on the
-/// nozzle streams (docs/performance.md, session 31): two parts save the most; four, eight
+/// nozzle streams (docs/performance-history.md, session 31): two parts save the most; four, eight
 /// and sixteen cost more in per-part work than they save in steps.
 const SPLIT_PARTS: usize = 2;
 /// Fewest members for which an island's window is cut into sub-windows.

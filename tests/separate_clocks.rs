@@ -5,7 +5,7 @@
 //! integrator's tolerance, shot by shot; with collisions (chaotic) the distributions
 //! agree within their sampling noise, for fewer shot-steps. (Over 96 seeds of the
 //! 10,000-shot stream both sit within 0.1 % of the converged reference:
-//! docs/performance.md, session 33.)
+//! docs/performance-history.md, session 33.)
 
 mod common;
 

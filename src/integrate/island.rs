@@ -691,7 +691,7 @@ impl Ctx<'_> {
                     // the step is then cut at the kink (`Ctx::event_margin`). Clamped, a
                     // step across the kink was rejected until it stopped short of it: on
                     // the 10,000-shot stream, a quarter of the rejected trials
-                    // (docs/performance.md, "Contacts unclamped up to their kink, session
+                    // (docs/performance-history.md, "Contacts unclamped up to their kink, session
                     // 35"). Friction takes the clamped load.
                     let f = if pushing.is_some_and(|p| p.specimen[i]) {
                         sp.law.force_unclamped(k, m.body.mass, -gap, -v.z)
@@ -2672,7 +2672,7 @@ fn advance_adaptive(
                 // mixing layer, where it was rejected again and again: over 96 seeds of
                 // the 10,000-shot stream this proposal halves the rejected trials, saves
                 // 8.8 % of the right-hand sides, and its outcomes are the nearest to the
-                // converged reference of the builds measured (docs/performance.md,
+                // converged reference of the builds measured (docs/performance-history.md,
                 // "The controller's own proposal after a kept step, session 35").
                 h_next = h * step_factor(err_norm, 0.2, 5.0);
                 t = t1;
