@@ -24,22 +24,6 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-/// Whether `cmd` can run (`probe` arguments). In CI a missing tool is a failure.
-fn have(cmd: &str, probe: &[&str]) -> bool {
-    let ok = Command::new(cmd)
-        .args(probe)
-        .output()
-        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty());
-    if !ok {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "{cmd} missing in CI: .ci/run must install it"
-        );
-        eprintln!("SKIPPED: {cmd} is not installed (bash .ci/run installs it)");
-    }
-    ok
-}
-
 fn python_has(module: &str) -> bool {
     have("python3", &["-c", &format!("import {module}")])
 }

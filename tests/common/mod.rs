@@ -23,6 +23,22 @@ pub fn peenflow(args: &[&str], cwd: &Path) -> Output {
         .expect("cannot start peenflow")
 }
 
+/// Whether `cmd` can run (`probe` arguments). In CI a missing tool is a failure.
+pub fn have(cmd: &str, probe: &[&str]) -> bool {
+    let ok = Command::new(cmd)
+        .args(probe)
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty());
+    if !ok {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{cmd} missing in CI: .ci/run must install it"
+        );
+        eprintln!("SKIPPED: {cmd} is not installed (bash .ci/run installs it)");
+    }
+    ok
+}
+
 /// Steel of the paper's Table 2.
 pub const E_STEEL: f64 = 210e9;
 /// Poisson's ratio of the paper's Table 2.
