@@ -22,7 +22,10 @@ Printed per time and friction: shots in the region, kinetic energy per shot, fra
 moving up, mean vertical velocity, mean horizontal speed, speed percentiles, and the
 Kolmogorov-Smirnov distance between the two codes' pooled vertical velocities (to 0.01
 m/s) next to the same distance between two halves of each code's own seeds (the sampling
-floor).
+floor). Then the impacts on the wall in the region over the run (what FE users take):
+count, first hits, normal-speed mean, percentiles and bands, tangential speed, impacts
+per 20 us, and the same distance for the normal speeds. LIGGGHTS records no impacts:
+they are read off a dump of the shots about to touch the wall (`liggghts_impacts`).
 """
 import csv
 import math
@@ -35,11 +38,15 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench import BIN, ROOT, SCENES, liggghts_inputs, run  # noqa: E402
 
-DT_NS = 20.0  # stream.in's step
+DT_NS = 20  # stream.in's step, ns
 DUMP_EVERY = 2500  # LIGGGHTS steps between dumps: 50, 100, 150 us; plus the end
 END_STEP = 8502  # two setup steps (insertion, step check) and 8,500 timed steps
 MARGIN = 0.010  # m: the central region's distance from each side
 MASS = 7850.0 * math.pi / 6.0 * 0.0008**3
+RADIUS = 0.0004
+IMPACT_EVERY = 10  # LIGGGHTS steps between the impact dumps (200 ns)
+IMPACT_WINDOW = 50e-6  # m: shots this close to touching are dumped (any speed below 250 m/s
+# crosses it in more than IMPACT_EVERY steps, so each approach is seen at least once)
 # insert/pack seeds (LIGGGHTS wants primes above 10,000); the first is stream.in's own.
 LIGGGHTS_SEEDS = [49979687, 49979693, 49979737, 49979767, 49979777, 49979791, 49979813, 49979819]
 
@@ -53,8 +60,13 @@ def liggghts_input(text, mu, seed):
     text = text.replace(fric, f"coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}")
     text = text.replace("seed 49979687", f"seed {seed}")
     head, _, _ = text.rstrip().rpartition("run ${steps}")
+    # Shots about to touch the wall (centre within IMPACT_WINDOW of touching, moving
+    # down), every IMPACT_EVERY steps: see `liggghts_impacts`.
+    window = f"{RADIUS + IMPACT_WINDOW:.6g}"
     return (head + f"dump d all custom {DUMP_EVERY} dump.*.txt id x y z vx vy vz\n"
-            + "run ${steps}\nundump d\n"
+            + f"dump imp all custom {IMPACT_EVERY} dump.impacts id x y z vx vy vz\n"
+            + f"dump_modify imp thresh z < {window} thresh z > {RADIUS} thresh vz < 0.0\n"
+            + "run ${steps}\nundump d\nundump imp\n"
             + f"dump e all custom 1 dump.{END_STEP}.txt id x y z vx vy vz\nrun 0\n")
 
 
@@ -63,13 +75,43 @@ def read_dump(path):
     return [tuple(float(x) for x in line.split()[1:7]) for line in lines]
 
 
+def liggghts_impacts(path):
+    """LIGGGHTS' wall impacts from the approach dumps: a shot seen moving down with its
+    centre less than IMPACT_EVERY steps of its own speed above touching touches before the
+    next dump (gravity moves it by 2e-10 m meanwhile); its impact is taken where its free
+    path touches. Returns (time, x, y, normal speed, tangential speed, first hit)."""
+    out, seen = [], set()
+    text = open(path).read()
+    for block in text.split("ITEM: TIMESTEP\n")[1:]:
+        lines = block.split("\n")
+        step = int(lines[0])
+        k = next(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
+        assert lines[k].split()[2:] == ["id", "x", "y", "z", "vx", "vy", "vz"], lines[k]
+        for line in lines[k + 1:]:
+            if not line.strip():
+                continue
+            i, x, y, z, vx, vy, vz = line.split()
+            x, y, z, vx, vy, vz = map(float, (x, y, z, vx, vy, vz))
+            tau = (z - RADIUS) / -vz
+            if tau < IMPACT_EVERY * DT_NS * 1e-9:
+                out.append((step * DT_NS * 1e-9 + tau, x + vx * tau, y + vy * tau, -vz, math.hypot(vx, vy), i not in seen))
+                seen.add(i)
+    return out
+
+
+def read_impacts(path):
+    return [(float(r["time_s"]), float(r["x_m"]), float(r["y_m"]), float(r["normal_speed_m_s"]),
+             float(r["tangential_speed_m_s"]), r["first_hit"] == "1") for r in csv.DictReader(open(path))]
+
+
 def read_shots(path):
     return [tuple(float(r[k]) for k in ("x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s"))
             for r in csv.DictReader(open(path)) if r["status"] == "active"]
 
 
-def central(points, width):
-    return [p for p in points if MARGIN <= p[0] <= width - MARGIN and MARGIN <= p[1] <= width - MARGIN]
+def central(points, width, at=0):
+    """The points whose x, y (at indices `at`, `at + 1`) lie in the central region."""
+    return [p for p in points if MARGIN <= p[at] <= width - MARGIN and MARGIN <= p[at + 1] <= width - MARGIN]
 
 
 def stats(points):
@@ -122,6 +164,8 @@ def main():
         text = open(os.path.join(tmp, "stream.in")).read()
         # states[(mu, code)][step] = list over seeds of central-region shot lists
         states = {}
+        # impacts[(mu, code)] = list over seeds of central-region impact lists
+        impacts = {}
         for mu in (0.0, 0.3):
             for k in range(seeds):
                 d = os.path.join(tmp, f"lg_{mu}_{k}")
@@ -131,6 +175,8 @@ def main():
                 for s in steps:
                     states.setdefault((mu, "LIGGGHTS"), {}).setdefault(s, []).append(
                         central(read_dump(os.path.join(d, f"dump.{s}.txt")), width))
+                impacts.setdefault((mu, "LIGGGHTS"), []).append(
+                    central(liggghts_impacts(os.path.join(d, "dump.impacts")), width, at=1))
                 for s in steps:
                     ms = s * DT_NS * 1e-6
                     t = scene.replace("duration_ms = 0.17\n", f"duration_ms = {ms:.6g}\nseed = {k + 1}\n")
@@ -141,6 +187,9 @@ def main():
                     run([BIN, "run", path, "--out", out, "-q", "-j", "1"], tmp)
                     states.setdefault((mu, "peenflow"), {}).setdefault(s, []).append(
                         central(read_shots(os.path.join(out, "shots.csv")), width))
+                    if s == END_STEP:
+                        impacts.setdefault((mu, "peenflow"), []).append(
+                            central(read_impacts(os.path.join(out, "impacts.csv")), width, at=1))
                 print(f"friction {mu}: seed {k + 1} of {seeds} done", file=sys.stderr)
         keys = ("ke_mj", "up", "vz", "vh", "p10", "p50", "p90")
         fmt = {"ke_mj": "{:.4f}", "up": "{:.4f}", "vz": "{:.2f}", "vh": "{:.2f}", "p10": "{:.2f}", "p50": "{:.2f}", "p90": "{:.2f}"}
@@ -168,6 +217,37 @@ def main():
                     print(f"| {mu} | {s * DT_NS * 1e-3:g} | {code} | {st['n'] / seeds:.0f} | {cell('ke_mj')} | {cell('up')} | "
                           f"{cell('vz')} | {cell('vh')} | {st['p10']:.2f} / {st['p50']:.2f} / {st['p90']:.2f} | {dist} |")
                 sys.stdout.flush()
+        print()
+        print(f"Impacts on the wall in the central region over {END_STEP * DT_NS * 1e-3:g} us (per seed, with the "
+              "per-seed standard deviation; speeds pooled over the seeds)")
+        print()
+        print("| friction | code | impacts | first hits | mean normal speed m/s | normal speed p10 / p50 / p90 m/s "
+              "| mean tangential speed m/s | share at normal speed <10 / 10-30 / 30-50 / 50-69.9 / 69.9-70.1 / >70.1 m/s, % "
+              "| impacts per 20 us | KS distance of normal speeds: codes (own seeds' halves) |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        bands = ((0, 10), (10, 30), (30, 50), (50, 69.9), (69.9, 70.1), (70.1, math.inf))
+        for mu in (0.0, 0.3):
+            for code in ("LIGGGHTS", "peenflow"):
+                per = impacts[(mu, code)]
+                pooled = [p for imps in per for p in imps]
+                vn = sorted(p[3] for p in pooled)
+                n = len(vn)
+                count = [len(imps) for imps in per]
+                first = [sum(1 for p in imps if p[5]) for imps in per]
+                mean_vn = [sum(p[3] for p in imps) / len(imps) for imps in per]
+                share = " / ".join(f"{100 * sum(1 for v in vn if lo <= v < hi) / n:.1f}" for lo, hi in bands)
+                bins = [0] * (END_STEP * DT_NS // 20000 + 1)
+                for p in pooled:
+                    bins[min(len(bins) - 1, int(p[0] / 20e-6))] += 1
+                half = seeds // 2
+                own = ks([p[3] for imps in per[:half] for p in imps], [p[3] for imps in per[half:] for p in imps])
+                other = [p[3] for imps in impacts[(mu, "LIGGGHTS")] for p in imps]
+                dist = f"({own:.3f})" if code == "LIGGGHTS" else f"{ks(other, vn):.3f} ({own:.3f})"
+                print(f"| {mu} | {code} | {statistics.mean(count):.0f} ({statistics.stdev(count):.0f}) | "
+                      f"{statistics.mean(first):.0f} ({statistics.stdev(first):.0f}) | "
+                      f"{sum(vn) / n:.2f} ({statistics.stdev(mean_vn):.2f}) | "
+                      f"{vn[n // 10]:.2f} / {vn[n // 2]:.2f} / {vn[9 * n // 10]:.2f} | "
+                      f"{sum(p[4] for p in pooled) / n:.2f} | {share} | {', '.join(str(round(b / seeds)) for b in bins)} | {dist} |")
 
 
 if __name__ == "__main__":
