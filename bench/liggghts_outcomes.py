@@ -4,12 +4,16 @@ steel shots of 0.8 mm at 5 % volume fraction falling at 70 m/s onto a steel wall
 meeting the incoming shots) and peenflow's bench/scenes/pack_stream_10k.toml, frictionless
 and with LIGGGHTS' friction 0.3, over several seeds of each code.
 
-usage: python3 bench/liggghts_outcomes.py [--seeds K]   (default 4 seeds; about 2 minutes)
+usage: python3 bench/liggghts_outcomes.py [--seeds K]   (default 4 seeds; about 1.5 minutes)
 
 Needs `liggghts` (apt-get install -y liggghts) and reads stream.in from
 ../shared/bench/liggghts (or $LIGGGHTS_INPUTS), as bench/bench.py does.
 
-The shots collide with each other: single trajectories are chaotic, and the two codes
+First, one shot onto the wall at 70 m/s from 0 to 80 degrees, with friction 0.3: the
+rebound in each code next to rigid-body impact theory (LIGGGHTS' tangential spring against
+peenflow's spring-free tangential law).
+
+In the stream the shots collide with each other: single trajectories are chaotic, and the two codes
 place their shots with different random generators. What is compared is therefore the
 state of the shots at 50, 100, 150 and 170 us as distributions, pooled over the seeds
 (per-seed spread given as the standard deviation), in the column's central region: a
@@ -63,16 +67,21 @@ def liggghts_input(text, mu, seed):
     # Shots about to touch the wall (centre within IMPACT_WINDOW of touching, moving
     # down), every IMPACT_EVERY steps: see `liggghts_impacts`.
     window = f"{RADIUS + IMPACT_WINDOW:.6g}"
-    return (head + f"dump d all custom {DUMP_EVERY} dump.*.txt id x y z vx vy vz\n"
+    return (head + f"dump d all custom {DUMP_EVERY} dump.*.txt id x y z vx vy vz omegax omegay omegaz\n"
             + f"dump imp all custom {IMPACT_EVERY} dump.impacts id x y z vx vy vz\n"
             + f"dump_modify imp thresh z < {window} thresh z > {RADIUS} thresh vz < 0.0\n"
             + "run ${steps}\nundump d\nundump imp\n"
-            + f"dump e all custom 1 dump.{END_STEP}.txt id x y z vx vy vz\nrun 0\n")
+            + f"dump e all custom 1 dump.{END_STEP}.txt id x y z vx vy vz omegax omegay omegaz\nrun 0\n")
 
 
 def read_dump(path):
-    lines = open(path).read().split("ITEM: ATOMS")[1].strip().split("\n")[1:]
-    return [tuple(float(x) for x in line.split()[1:7]) for line in lines]
+    """(position, velocity, spin) of every shot in a LIGGGHTS dump, in the order of their
+    ids (LIGGGHTS writes them in its own order)."""
+    head, _, body = open(path).read().partition("ITEM: ATOMS")
+    lines = body.strip().split("\n")
+    assert lines[0].split() == ["id", "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"], lines[0]
+    rows = sorted((int(line.split()[0]), line.split()[1:10]) for line in lines[1:])
+    return [tuple(float(x) for x in row) for _, row in rows]
 
 
 def liggghts_impacts(path):
@@ -105,8 +114,8 @@ def read_impacts(path):
 
 
 def read_shots(path):
-    return [tuple(float(r[k]) for k in ("x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s"))
-            for r in csv.DictReader(open(path)) if r["status"] == "active"]
+    keys = ("x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s")
+    return [tuple(float(r[k]) for k in keys) for r in csv.DictReader(open(path)) if r["status"] == "active"]
 
 
 def central(points, width, at=0):
@@ -121,6 +130,8 @@ def stats(points):
     return {
         "n": n,
         "ke_mj": 1e3 * sum(0.5 * MASS * v * v for v in speed) / n,
+        # spin energy, solid sphere: I = 2/5 m R^2
+        "rot_mj": 1e3 * sum(0.2 * MASS * RADIUS**2 * (p[6] ** 2 + p[7] ** 2 + p[8] ** 2) for p in points) / n,
         "up": sum(1 for p in points if p[5] > 0) / n,
         "vz": sum(p[5] for p in points) / n,
         "vh": sum(math.hypot(p[3], p[4]) for p in points) / n,
@@ -146,6 +157,68 @@ def ks(a, b):
         d = max(d, abs(i / len(a) - j / len(b)))
     return d
 
+OBLIQUE_ANGLES = (0, 10, 20, 30, 40, 50, 60, 70, 80)  # degrees from the wall's normal
+
+
+def oblique(tmp, mu=0.3, e=0.7, speed=70.0):
+    """One shot onto the wall at `speed` from each angle of OBLIQUE_ANGLES, friction `mu`,
+    no gravity, in LIGGGHTS (stream.in's materials, contact models and 20 ns step) and in
+    peenflow; the rebound's tangential and normal velocities and the surface spin speed
+    omega R, next to rigid-body impact theory (Brach 1991: sliding throughout if
+    v_t > 7/2 mu (1 + e) v_n, else the slip stops and v_t' = omega' R = 5/7 v_t)."""
+    gap = 10e-6
+    lines = ["atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
+             "communicate single vel yes", "units si", "hard_particles yes",
+             f"region box block -0.005 0.005 -0.001 {0.002 * len(OBLIQUE_ANGLES) + 0.001} -0.001 0.005 units box",
+             "create_box 2 box", "neighbor 0.0002 bin", "neigh_modify delay 0",
+             "fix m1 all property/global youngsModulus peratomtype 2.1e11 2.1e11",
+             "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3",
+             f"fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 {e} {e} 0.9",
+             f"fix m4 all property/global coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}",
+             "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-8",
+             "fix zwall all wall/gran model hertz tangential history primitive type 2 zplane 0.0"]
+    lines += [f"create_atoms 1 single 0.0 {0.002 * k} {RADIUS + gap} units box" for k in range(len(OBLIQUE_ANGLES))]
+    lines += ["set group all diameter 0.0008", "set group all density 7850"]
+    shots = ""
+    for k, a in enumerate(OBLIQUE_ANGLES):
+        vt, vn = speed * math.sin(math.radians(a)), speed * math.cos(math.radians(a))
+        lines += [f"group g{k} id {k + 1}", f"velocity g{k} set {vt!r} 0 {-vn!r} units box"]
+        shots += (f"[[shots.feed.shots]]\nposition_mm = [0.0, {2.0 * k}, {(RADIUS + gap) * 1e3!r}]\n"
+                  f"velocity_m_s = [{vt!r}, 0.0, {-vn!r}]\n")
+    lines += ["fix integr all nve/sphere", "run 1000",
+              "dump e all custom 1 dump.oblique id x y z vx vy vz omegax omegay omegaz", "run 0"]
+    d = os.path.join(tmp, "oblique")
+    os.mkdir(d)
+    open(os.path.join(d, "in.oblique"), "w").write("\n".join(lines) + "\n")
+    run(["liggghts", "-in", "in.oblique", "-log", "log", "-screen", "screen"], d)
+    lg = read_dump(os.path.join(d, "dump.oblique"))
+    scene = (f"duration_ms = 0.02\n[shots]\ndiameter_mm = 0.8\nmaterial = \"table2-steel\"\n[shots.feed]\n"
+             f"type = \"list\"\n{shots}[restitution]\nshot_specimen = {e}\n[friction]\nshot_specimen = {mu}\n"
+             "[effects]\ndrag = false\nlateral_force = false\ngravity = false\nspecimen_contact = true\n"
+             "shot_shot_contact = false\nnozzle_wall_contact = false\n")
+    path = os.path.join(d, "oblique.toml")
+    open(path, "w").write(scene)
+    run([BIN, "run", path, "--out", os.path.join(d, "pf"), "-q", "-j", "1"], d)
+    pf = read_shots(os.path.join(d, "pf", "shots.csv"))
+    print(f"One shot onto the wall at {speed:g} m/s, friction {mu}, restitution {e}: rebound tangential and normal "
+          "velocity and surface spin speed omega R, m/s")
+    print()
+    print("| angle from normal, deg | incoming v_t | LIGGGHTS v_t' / v_n' / omega R | peenflow v_t' / v_n' / omega R "
+          "| rigid-body theory v_t' / omega R (regime) |")
+    print("|---|---|---|---|---|")
+    for k, a in enumerate(OBLIQUE_ANGLES):
+        vt, vn = speed * math.sin(math.radians(a)), speed * math.cos(math.radians(a))
+        slide = vt > 3.5 * mu * (1 + e) * vn
+        theory = vt - mu * (1 + e) * vn if slide else 5 / 7 * vt
+        spin = 2.5 * mu * (1 + e) * vn if slide else theory
+        cells = []
+        for p in (lg[k], pf[k]):
+            # y spin: a shot moving in +x on the plane z = 0 spins about +y
+            cells.append(f"{p[3]:.2f} / {p[5]:.2f} / {p[7] * RADIUS:.2f}")
+        print(f"| {a} | {vt:.2f} | {cells[0]} | {cells[1]} | {theory:.2f} / {spin:.2f} ({'sliding' if slide else 'sticking'}) |")
+    print()
+    sys.stdout.flush()
+
 
 def main():
     argv = sys.argv[1:]
@@ -162,6 +235,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         liggghts_inputs(tmp, ("stream.in",))
         text = open(os.path.join(tmp, "stream.in")).read()
+        oblique(tmp)
         # states[(mu, code)][step] = list over seeds of central-region shot lists
         states = {}
         # impacts[(mu, code)] = list over seeds of central-region impact lists
@@ -191,14 +265,14 @@ def main():
                         impacts.setdefault((mu, "peenflow"), []).append(
                             central(read_impacts(os.path.join(out, "impacts.csv")), width, at=1))
                 print(f"friction {mu}: seed {k + 1} of {seeds} done", file=sys.stderr)
-        keys = ("ke_mj", "up", "vz", "vh", "p10", "p50", "p90")
-        fmt = {"ke_mj": "{:.4f}", "up": "{:.4f}", "vz": "{:.2f}", "vh": "{:.2f}", "p10": "{:.2f}", "p50": "{:.2f}", "p90": "{:.2f}"}
+        keys = ("ke_mj", "rot_mj", "up", "vz", "vh", "p10", "p50", "p90")
+        fmt = {"ke_mj": "{:.4f}", "rot_mj": "{:.4f}", "up": "{:.4f}", "vz": "{:.2f}", "vh": "{:.2f}", "p10": "{:.2f}", "p50": "{:.2f}", "p90": "{:.2f}"}
         print(f"central region ({1e3 * MARGIN:g} mm in from each side), {seeds} seeds of each code; "
               "pooled value (per-seed standard deviation)")
         print()
-        print("| friction | time us | code | shots in region | KE per shot mJ | moving up | mean vz m/s | mean horizontal speed m/s "
+        print("| friction | time us | code | shots in region | KE per shot mJ | spin energy per shot mJ | moving up | mean vz m/s | mean horizontal speed m/s "
               "| speed p10 / p50 / p90 m/s | KS distance of vz: codes (own seeds' halves) |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for mu in (0.0, 0.3):
             for s in steps:
                 pooled = {}
@@ -214,7 +288,7 @@ def main():
                         dist = f"({own:.3f})"
                     else:
                         dist = f"{ks([p[5] for p in pooled['LIGGGHTS']], [p[5] for p in pooled['peenflow']]):.3f} ({own:.3f})"
-                    print(f"| {mu} | {s * DT_NS * 1e-3:g} | {code} | {st['n'] / seeds:.0f} | {cell('ke_mj')} | {cell('up')} | "
+                    print(f"| {mu} | {s * DT_NS * 1e-3:g} | {code} | {st['n'] / seeds:.0f} | {cell('ke_mj')} | {cell('rot_mj')} | {cell('up')} | "
                           f"{cell('vz')} | {cell('vh')} | {st['p10']:.2f} / {st['p50']:.2f} / {st['p90']:.2f} | {dist} |")
                 sys.stdout.flush()
         print()

@@ -21,7 +21,7 @@
 //! speed by 0.4-1.4 % and 0.6-1 %. Frictionless the codes agree within that (kinetic
 //! energy 0.7 %, impacts 0.0 %, normal speed 0.1 %): the tolerance is 3 %. With LIGGGHTS'
 //! friction 0.3 the impacts still agree within 0.7 %, but peenflow keeps 3.4 % more
-//! kinetic energy: its tangential law has no tangential spring (Coulomb with a viscous
+//! translational kinetic energy (and LIGGGHTS 24 % more spin energy): its tangential law has no tangential spring (Coulomb with a viscous
 //! stick, docs/model.md), LIGGGHTS' `tangential history` has one. The tolerance there is
 //! 8 % on the energy and velocities, 3 % on the fraction moving up and 5 % on the impacts
 //! (these two seeds: -1.3 % and +2.0 %, four seeds: -0.7 % and +0.7 %). Trajectories are
