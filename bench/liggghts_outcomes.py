@@ -68,7 +68,7 @@ def liggghts_input(text, mu, seed):
     # down), every IMPACT_EVERY steps: see `liggghts_impacts`.
     window = f"{RADIUS + IMPACT_WINDOW:.6g}"
     return (head + f"dump d all custom {DUMP_EVERY} dump.*.txt id x y z vx vy vz omegax omegay omegaz\n"
-            + f"dump imp all custom {IMPACT_EVERY} dump.impacts id x y z vx vy vz\n"
+            + f"dump imp all custom {IMPACT_EVERY} dump.impacts id x y z vx vy vz omegax omegay omegaz\n"
             + f"dump_modify imp thresh z < {window} thresh z > {RADIUS} thresh vz < 0.0\n"
             + "run ${steps}\nundump d\nundump imp\n"
             + f"dump e all custom 1 dump.{END_STEP}.txt id x y z vx vy vz omegax omegay omegaz\nrun 0\n")
@@ -88,29 +88,32 @@ def liggghts_impacts(path):
     """LIGGGHTS' wall impacts from the approach dumps: a shot seen moving down with its
     centre less than IMPACT_EVERY steps of its own speed above touching touches before the
     next dump (gravity moves it by 2e-10 m meanwhile); its impact is taken where its free
-    path touches. Returns (time, x, y, normal speed, tangential speed, first hit)."""
+    path touches. Returns (time, x, y, normal speed, tangential speed, first hit, surface
+    spin speed |omega| R)."""
     out, seen = [], set()
     text = open(path).read()
     for block in text.split("ITEM: TIMESTEP\n")[1:]:
         lines = block.split("\n")
         step = int(lines[0])
         k = next(i for i, line in enumerate(lines) if line.startswith("ITEM: ATOMS"))
-        assert lines[k].split()[2:] == ["id", "x", "y", "z", "vx", "vy", "vz"], lines[k]
+        assert lines[k].split()[2:] == ["id", "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"], lines[k]
         for line in lines[k + 1:]:
             if not line.strip():
                 continue
-            i, x, y, z, vx, vy, vz = line.split()
-            x, y, z, vx, vy, vz = map(float, (x, y, z, vx, vy, vz))
+            i, *rest = line.split()
+            x, y, z, vx, vy, vz, wx, wy, wz = map(float, rest)
             tau = (z - RADIUS) / -vz
             if tau < IMPACT_EVERY * DT_NS * 1e-9:
-                out.append((step * DT_NS * 1e-9 + tau, x + vx * tau, y + vy * tau, -vz, math.hypot(vx, vy), i not in seen))
+                spin = math.sqrt(wx * wx + wy * wy + wz * wz) * RADIUS
+                out.append((step * DT_NS * 1e-9 + tau, x + vx * tau, y + vy * tau, -vz, math.hypot(vx, vy), i not in seen, spin))
                 seen.add(i)
     return out
 
 
 def read_impacts(path):
+    spin = lambda r: math.sqrt(sum(float(r[f"omega_{a}_rad_s"]) ** 2 for a in "xyz")) * RADIUS
     return [(float(r["time_s"]), float(r["x_m"]), float(r["y_m"]), float(r["normal_speed_m_s"]),
-             float(r["tangential_speed_m_s"]), r["first_hit"] == "1") for r in csv.DictReader(open(path))]
+             float(r["tangential_speed_m_s"]), r["first_hit"] == "1", spin(r)) for r in csv.DictReader(open(path))]
 
 
 def read_shots(path):
@@ -296,9 +299,9 @@ def main():
               "per-seed standard deviation; speeds pooled over the seeds)")
         print()
         print("| friction | code | impacts | first hits | mean normal speed m/s | normal speed p10 / p50 / p90 m/s "
-              "| mean tangential speed m/s | share at normal speed <10 / 10-30 / 30-50 / 50-69.9 / 69.9-70.1 / >70.1 m/s, % "
+              "| mean tangential speed m/s | mean surface spin speed omega R m/s | share at normal speed <10 / 10-30 / 30-50 / 50-69.9 / 69.9-70.1 / >70.1 m/s, % "
               "| impacts per 20 us | KS distance of normal speeds: codes (own seeds' halves) |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         bands = ((0, 10), (10, 30), (30, 50), (50, 69.9), (69.9, 70.1), (70.1, math.inf))
         for mu in (0.0, 0.3):
             for code in ("LIGGGHTS", "peenflow"):
@@ -321,7 +324,7 @@ def main():
                       f"{statistics.mean(first):.0f} ({statistics.stdev(first):.0f}) | "
                       f"{sum(vn) / n:.2f} ({statistics.stdev(mean_vn):.2f}) | "
                       f"{vn[n // 10]:.2f} / {vn[n // 2]:.2f} / {vn[9 * n // 10]:.2f} | "
-                      f"{sum(p[4] for p in pooled) / n:.2f} | {share} | {', '.join(str(round(b / seeds)) for b in bins)} | {dist} |")
+                      f"{sum(p[4] for p in pooled) / n:.2f} | {sum(p[6] for p in pooled) / n:.2f} | {share} | {', '.join(str(round(b / seeds)) for b in bins)} | {dist} |")
 
 
 if __name__ == "__main__":
