@@ -33,10 +33,12 @@ fn error_falls_as_the_tolerance_tightens() {
         err("adaptive", 1e-3) < 1e-3,
         "even the loosest tolerance meets 0.1 %"
     );
-    // Verlet: first order in the step near the contact; halving the step helps.
-    assert!(
-        err("verlet", 10e-9) < err("verlet", 20e-9) && err("verlet", 20e-9) < err("verlet", 50e-9)
-    );
+    // Verlet: first order in the step where it crosses the jet's velocity jump blind (its
+    // impact is taken at the touch, on the step's free path). Where in a step the jump
+    // falls varies with the step, so the error is not monotone step by step (10 ns:
+    // 6.9e-7, 20 ns: 6.2e-7, session 41); a decade of step buys about one of error.
+    assert!(err("verlet", 10e-9) < 0.2 * err("verlet", 100e-9));
+    assert!(err("verlet", 20e-9) < 0.2 * err("verlet", 100e-9));
     // The adaptive method needs orders of magnitude fewer steps for a better error.
     let steps = |m: &str, v: f64| {
         s.rows

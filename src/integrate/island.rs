@@ -2965,6 +2965,41 @@ fn kick_spin(y: &mut [f64], acc: &[f64], n: usize, i: usize, dt: f64) {
     }
 }
 
+/// Where a velocity-Verlet step (length `h`, ending at state `y` with forces `acc`, having
+/// started with forces `prev`) of member `i` (radius `r`) touched the specimen plane: the
+/// time into the step, the centre and the velocity there. The step started at
+/// `x0, v0` (its two half kicks undone) and drifted along `x0 + v0 s + a0 s^2 / 2`, which
+/// at `s = h` is exactly the position it ended at; before the touch only the forces at
+/// its start acted. (Recording the state at the step's end instead, as a fixed-step DEM
+/// code sees the contact, takes the impact up to a step late and already slowed by the
+/// contact: 3.5e-3 of the impact speed for a 70 m/s shot at 20 ns steps.)
+fn touch_state(
+    y: &[f64],
+    acc: &[f64],
+    prev: &[f64],
+    i: usize,
+    h: f64,
+    r: f64,
+) -> (f64, Vec3, Vec3) {
+    let (a0, a1) = (vel(prev, i), vel(acc, i));
+    let v_half = vel(y, i) - 0.5 * h * a1;
+    let (x0, v0) = (pos(y, i) - h * v_half, v_half - 0.5 * h * a0);
+    // gap(s) = x0.z + v0.z s + a0.z s^2 / 2 - r: positive at the start, negative at the
+    // end; its first root in [0, h].
+    let (qa, qb, qc) = (0.5 * a0.z, v0.z, x0.z - r);
+    let s = if qc <= 0.0 {
+        0.0
+    } else {
+        let disc = (qb * qb - 4.0 * qa * qc).max(0.0).sqrt();
+        let q = -0.5 * (qb + qb.signum() * disc);
+        [qc / q, q / qa]
+            .into_iter()
+            .filter(|s| s.is_finite() && (0.0..=h).contains(s))
+            .fold(h, f64::min)
+    };
+    (s, x0 + v0 * s + 0.5 * a0 * s * s, v0 + a0 * s)
+}
+
 /// Fixed-step velocity Verlet (kick-drift-kick; velocity-dependent forces see the half-step
 /// velocity, as in LIGGGHTS' nve/sphere). See [`Method::Verlet`].
 #[allow(clippy::too_many_arguments)]
@@ -2989,7 +3024,14 @@ fn advance_verlet(
     let spin = phys.contacts.friction.is_some();
     load_state(members, &mut scratch.y, spin);
     scratch.y_new.resize(scratch.y.len(), 0.0);
-    let Scratch { y, y_new: acc, .. } = scratch;
+    // `prev`: the forces at the start of the step, for the impacts' touch (`touch_state`).
+    let Scratch {
+        y,
+        y_new: acc,
+        err: prev,
+        ..
+    } = scratch;
+    prev.resize(acc.len(), 0.0);
     let mut work = WorkCounters::default();
     let set_regions = |members: &mut [ShotState], t: f64, y: &[f64]| {
         if let Some(field) = &phys.forces.field {
@@ -3055,7 +3097,9 @@ fn advance_verlet(
         }
         t = t_new;
         set_regions(members, t, y);
-        // Forces at the new positions (with the half-step velocities), second kick.
+        // Forces at the new positions (with the half-step velocities), second kick. (The
+        // step's starting forces move to `prev`: `rhs` writes every entry of `acc`.)
+        std::mem::swap(acc, prev);
         ctx.rhs(members, pairs, None, t, y, acc, &mut work);
         for (i, m) in members.iter().enumerate() {
             if moving(m, t) {
@@ -3079,8 +3123,24 @@ fn advance_verlet(
             );
             break;
         }
-        // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them.
+        // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them;
+        // a specimen impact is recorded where the shot touched, on the step's free path.
+        let recorded = out.impacts.len();
         ctx.apply_events(members, pairs, t, y, out);
+        for imp in &mut out.impacts[recorded..] {
+            if let Some(i) = members.iter().position(|m| m.id.0 == imp.shot) {
+                let (s, p, v) = touch_state(y, acc, prev, i, h, members[i].body.radius);
+                let w = if spin {
+                    // The spin the step carried across its drift.
+                    omega(y, n, i) - 0.5 * h * omega(acc, n, i)
+                } else {
+                    members[i].omega
+                };
+                let (r, mass) = (members[i].body.radius, members[i].body.mass);
+                let (before, first) = (imp.collisions_before, imp.first_hit == 1);
+                *imp = Impact::new(imp.shot, t - h + s, &p, &v, &w, r, mass, before, first);
+            }
+        }
         observer(t, y);
         if ctx
             .end_of_step(members, pairs, t, y, out, "use a smaller fixed step")
