@@ -167,6 +167,22 @@ def ks(a, b):
         d = max(d, abs(i / len(a) - j / len(b)))
     return d
 
+def liggghts_contacts(mu, e_wall=0.7):
+    """stream.in's shots, contact models and step, as LIGGGHTS input lines (after the box
+    exists): restitution 0.9 between shots and `e_wall` on the wall, friction `mu`."""
+    return ["neighbor 0.0002 bin", "neigh_modify delay 0",
+            "fix m1 all property/global youngsModulus peratomtype 2.1e11 2.1e11",
+            "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3",
+            f"fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 {e_wall} {e_wall} 0.9",
+            f"fix m4 all property/global coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}",
+            "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-8",
+            "fix zwall all wall/gran model hertz tangential history primitive type 2 zplane 0.0"]
+
+
+LIGGGHTS_HEAD = ["atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
+                 "communicate single vel yes", "units si", "hard_particles yes"]
+
+
 OBLIQUE_ANGLES = (0, 10, 20, 30, 40, 50, 60, 70, 80)  # degrees from the wall's normal
 
 
@@ -177,16 +193,9 @@ def oblique(tmp, mu=0.3, e=0.7, speed=70.0):
     omega R, next to rigid-body impact theory (Brach 1991: sliding throughout if
     v_t > 7/2 mu (1 + e) v_n, else the slip stops and v_t' = omega' R = 5/7 v_t)."""
     gap = 10e-6
-    lines = ["atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
-             "communicate single vel yes", "units si", "hard_particles yes",
-             f"region box block -0.005 0.005 -0.001 {0.002 * len(OBLIQUE_ANGLES) + 0.001} -0.001 0.005 units box",
-             "create_box 2 box", "neighbor 0.0002 bin", "neigh_modify delay 0",
-             "fix m1 all property/global youngsModulus peratomtype 2.1e11 2.1e11",
-             "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3",
-             f"fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 {e} {e} 0.9",
-             f"fix m4 all property/global coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}",
-             "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-8",
-             "fix zwall all wall/gran model hertz tangential history primitive type 2 zplane 0.0"]
+    lines = LIGGGHTS_HEAD + [
+        f"region box block -0.005 0.005 -0.001 {0.002 * len(OBLIQUE_ANGLES) + 0.001} -0.001 0.005 units box",
+        "create_box 2 box"] + liggghts_contacts(mu, e)
     lines += [f"create_atoms 1 single 0.0 {0.002 * k} {RADIUS + gap} units box" for k in range(len(OBLIQUE_ANGLES))]
     lines += ["set group all diameter 0.0008", "set group all density 7850"]
     shots = ""
@@ -259,16 +268,8 @@ def same_start(tmp, seed=12345):
         f.write("\nVelocities\n\n")
         f.writelines(f"{i + 1} 0 0 -70 0 0 0\n" for i in range(n))
     fmt = '"%d' + " %.17g" * 9 + '"'
-    lines = ["atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
-             "communicate single vel yes", "units si", "hard_particles yes", "read_data shots.data",
-             "neighbor 0.0002 bin", "neigh_modify delay 0",
-             "fix m1 all property/global youngsModulus peratomtype 2.1e11 2.1e11",
-             "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3",
-             "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 0.7 0.7 0.9",
-             "fix m4 all property/global coefficientFriction peratomtypepair 2 0.0 0.0 0.0 0.0",
-             "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-8",
+    lines = LIGGGHTS_HEAD + ["read_data shots.data"] + liggghts_contacts(0.0) + [
              "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-             "fix zwall all wall/gran model hertz tangential history primitive type 2 zplane 0.0",
              "fix integr all nve/sphere", "thermo_modify lost ignore norm no",
              f"dump imp all custom {IMPACT_EVERY} dump.impacts id x y z vx vy vz omegax omegay omegaz",
              f"dump_modify imp format {fmt}",
