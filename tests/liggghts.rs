@@ -35,6 +35,8 @@
 
 mod common;
 use common::*;
+use peenflow::scene::Scene;
+use peenflow::sim::Simulation;
 use std::path::Path;
 
 /// Shot mass, kg (0.8 mm, 7850 kg/m^3).
@@ -165,15 +167,13 @@ fn liggghts(dir: &Path, mu: f64, seed: u32) -> (Vec<[f64; 6]>, Vec<[f64; 3]>) {
 /// Runs the pack stream with friction `mu`, seed `seed` and integrator tolerance
 /// `tolerance` (`None`: the default) for stream.in's 8,502 steps of 20 ns; the active
 /// shots (position, velocity) at the end and the impacts (x, y, normal speed).
-fn peenflow_run(
-    dir: &Path,
-    mu: f64,
-    seed: u32,
-    tolerance: Option<f64>,
-) -> (Vec<[f64; 6]>, Vec<[f64; 3]>) {
+fn peenflow_run(mu: f64, seed: u32, tolerance: Option<f64>) -> (Vec<[f64; 6]>, Vec<[f64; 3]>) {
     let scene = std::fs::read_to_string(root().join("bench/scenes/pack_stream_10k.toml"))
         .expect("bench/scenes/pack_stream_10k.toml");
     assert!(scene.contains("duration_ms = 0.17\n"));
+    let integrator = tolerance.map_or(String::new(), |t| {
+        format!("[integrator]\ntolerance = {t:e}\n")
+    });
     let scene = scene
         .replace(
             "duration_ms = 0.17\n",
@@ -181,54 +181,23 @@ fn peenflow_run(
         )
         .replace(
             "[effects]",
-            &format!("[friction]\nshot_specimen = {mu}\nshot_shot = {mu}\n[effects]"),
+            &format!("[friction]\nshot_specimen = {mu}\nshot_shot = {mu}\n{integrator}[effects]"),
         );
-    let scene = match tolerance {
-        Some(t) => scene.replace(
-            "[effects]",
-            &format!("[integrator]\ntolerance = {t:e}\n[effects]"),
-        ),
-        None => scene,
-    };
-    let _ = std::fs::remove_dir_all(dir.join("out"));
-    std::fs::write(dir.join("pack.toml"), scene).unwrap();
-    let out = peenflow(&["run", "pack.toml", "--out", "out", "-q", "-j", "1"], dir);
-    assert!(out.status.success(), "peenflow failed: {out:?}");
-    let read = |file: &str,
-                cols: &[&str],
-                keep: &dyn Fn(&csv::StringRecord, &csv::StringRecord) -> bool| {
-        let mut rd = csv::Reader::from_path(dir.join("out").join(file)).unwrap();
-        let h = rd.headers().unwrap().clone();
-        let idx: Vec<usize> = cols
-            .iter()
-            .map(|c| h.iter().position(|x| x == *c).unwrap())
-            .collect();
-        rd.records()
-            .map(|r| r.unwrap())
-            .filter(|r| keep(&h, r))
-            .map(|r| {
-                idx.iter()
-                    .map(|&i| r[i].parse::<f64>().unwrap())
-                    .collect::<Vec<f64>>()
-            })
-            .collect::<Vec<_>>()
-    };
-    let active = |h: &csv::StringRecord, r: &csv::StringRecord| {
-        &r[h.iter().position(|x| x == "status").unwrap()] == "active"
-    };
-    let cols = ["x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s"];
-    let shots = read("shots.csv", &cols, &active)
-        .into_iter()
-        .map(|v| [v[0], v[1], v[2], v[3], v[4], v[5]])
+    let scene = Scene::from_toml(&scene, "pack stream").unwrap();
+    let out = Simulation::new(&scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {});
+    let shots = out
+        .shots
+        .iter()
+        .filter(|s| s.is_active())
+        .map(|s| [s.pos.x, s.pos.y, s.pos.z, s.vel.x, s.vel.y, s.vel.z])
         .collect();
-    let impacts = read(
-        "impacts.csv",
-        &["x_m", "y_m", "normal_speed_m_s"],
-        &|_, _| true,
-    )
-    .into_iter()
-    .map(|v| [v[0], v[1], v[2]])
-    .collect();
+    let impacts = out
+        .impacts
+        .iter()
+        .map(|i| [i.x_m, i.y_m, i.normal_speed_m_s])
+        .collect();
     (shots, impacts)
 }
 
@@ -253,7 +222,7 @@ fn compare(mu: f64, tol: [f64; 6]) {
             lg[q] += 0.5 * l[q];
         }
         for (m, &t) in tolerances.iter().enumerate() {
-            let (shots, impacts) = peenflow_run(tmp.path(), mu, k as u32 + 1, t);
+            let (shots, impacts) = peenflow_run(mu, k as u32 + 1, t);
             let p = central(&shots, &impacts);
             for q in 0..6 {
                 pf[m][q] += 0.5 * p[q];
