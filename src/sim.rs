@@ -15,6 +15,7 @@
 
 use crate::Vec3;
 use crate::contact::broad::CellList;
+use crate::contact::friction::{self, Tangential};
 use crate::contact::{ContactSet, Friction, HertzLaw, PairContact, SpecimenContact, WallContact};
 use crate::counters::WorkCounters;
 use crate::export::vtk::SnapshotPoint;
@@ -125,6 +126,23 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
             specimen: scene.friction.shot_specimen,
             shot: scene.friction.shot_shot,
             wall: scene.friction.shot_nozzle,
+            law: if scene.friction.history {
+                let g = |other: &crate::scene::Material| {
+                    friction::shear_ratio(
+                        shot.youngs_modulus,
+                        shot.poisson_ratio,
+                        other.youngs_modulus,
+                        other.poisson_ratio,
+                    )
+                };
+                Tangential::History {
+                    specimen: g(&scene.specimen_material),
+                    shot: g(shot),
+                    wall: g(&scene.nozzle_material),
+                }
+            } else {
+                Tangential::Viscous
+            },
         }),
     };
     Physics {
@@ -596,6 +614,7 @@ fn sub_window(
                 pairs[p].touching = done.touching;
                 pairs[p].contact_time = done.contact_time;
                 pairs[p].onset = done.onset;
+                pairs[p].xi = done.xi;
             }
             for (&i, m) in g.iter().zip(gm) {
                 members[i] = m;
@@ -707,6 +726,7 @@ enum IslandResult {
 struct PairState {
     contact_time: f64,
     onset: f64,
+    xi: Vec3,
 }
 
 /// What a run produced: its records and its [`RunTail`] (whose fields read through:
@@ -2040,6 +2060,7 @@ impl Simulation {
                         touching: st.is_some(),
                         contact_time: st.map_or(0.0, |s| s.contact_time),
                         onset: st.map_or(0.0, |s| s.onset),
+                        xi: st.map_or(Vec3::zeros(), |s| s.xi),
                     }
                 })
                 .collect();
@@ -2138,6 +2159,7 @@ impl Simulation {
                         PairState {
                             contact_time: p.contact_time,
                             onset: p.onset,
+                            xi: p.xi,
                         },
                     );
                 } else {

@@ -82,6 +82,11 @@ pub struct ShotState {
     pub on_wall: bool,
     /// Onset time of the current wall contact, s.
     pub wall_onset: f64,
+    /// Tangential displacement of the current specimen contact, m (the `history`
+    /// tangential law; zero otherwise and between contacts).
+    pub specimen_xi: Vec3,
+    /// Tangential displacement of the current wall contact, m (as `specimen_xi`).
+    pub wall_xi: Vec3,
     /// Step-duration estimate of the current wall contact (Hertz time), s.
     pub wall_contact_time: f64,
     /// Next step size the error controller proposes, s.
@@ -135,6 +140,8 @@ impl ShotState {
             specimen_onset: 0.0,
             on_wall: false,
             wall_onset: 0.0,
+            specimen_xi: Vec3::zeros(),
+            wall_xi: Vec3::zeros(),
             wall_contact_time: 0.0,
             h_next: 0.0,
             hits: 0,

@@ -18,6 +18,7 @@ mod common;
 use common::{contact_physics, shot};
 use peenflow::Vec3;
 use peenflow::contact::Friction;
+use peenflow::contact::friction::Tangential;
 use peenflow::integrate::Physics;
 use peenflow::integrate::island::Method;
 use peenflow::sim::{RunOutput, Scheduler, Simulation};
@@ -59,13 +60,14 @@ fn cloud(seed: u64) -> Vec<ShotState> {
     shots
 }
 
-fn physics(restitution: f64, friction: f64, method: Method) -> Physics {
+fn physics(restitution: f64, friction: f64, law: Tangential, method: Method) -> Physics {
     let mut phys = contact_physics(None, Some(restitution));
     if friction > 0.0 {
         phys.contacts.friction = Some(Friction {
             specimen: friction,
             shot: friction,
             wall: friction,
+            law,
         });
     }
     phys.method = method;
@@ -118,9 +120,30 @@ fn conserved(
     method: Method,
     scheduler: Scheduler,
 ) -> (RunOutput, f64) {
+    conserved_with(
+        label,
+        restitution,
+        (friction, Tangential::Viscous),
+        method,
+        scheduler,
+    )
+}
+
+/// [`conserved`] with the tangential law `law`.
+fn conserved_with(
+    label: &str,
+    restitution: f64,
+    (friction, law): (f64, Tangential),
+    method: Method,
+    scheduler: Scheduler,
+) -> (RunOutput, f64) {
     let shots = cloud(7);
     let before = totals(&shots);
-    let out = run(physics(restitution, friction, method), shots, scheduler);
+    let out = run(
+        physics(restitution, friction, law, method),
+        shots,
+        scheduler,
+    );
     let after = totals(&out.shots);
     let contacts = out.work.contact_onsets;
     let dp = (after.momentum - before.momentum).norm() / before.p_scale;
@@ -180,4 +203,27 @@ fn a_colliding_cloud_loses_energy_with_losses_and_keeps_its_momenta() {
             "{label}: friction spun no shot"
         );
     }
+}
+
+/// The tangential spring with history (`tangential = "history"`, fixed-step method): its
+/// force acts in equal and opposite pairs at the contact point, so momentum and angular
+/// momentum (orbital plus spin) are kept as with the viscous law; it spins the shots and
+/// takes energy out of an elastic normal law (measured: 0.78 of the start, the viscous
+/// law 0.77).
+#[test]
+fn the_history_law_keeps_the_clouds_momenta() {
+    // Steel on steel: G* / E* = (1 - nu) / (2 (2 - nu)).
+    let g = peenflow::contact::friction::shear_ratio(210e9, 0.3, 210e9, 0.3);
+    let law = Tangential::History {
+        specimen: g,
+        shot: g,
+        wall: g,
+    };
+    let verlet = Method::Verlet { step: 20e-9 };
+    let (out, rough) = conserved_with("history", 1.0, (0.3, law), verlet, Scheduler::Windows);
+    assert!(rough < 1.0, "the history law gained energy ({rough})");
+    assert!(
+        out.shots.iter().any(|s| s.omega.norm() > 100.0),
+        "the history law spun no shot"
+    );
 }

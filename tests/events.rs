@@ -399,6 +399,7 @@ fn frictional_lean_contacts_match_the_island_integrator() {
                 specimen: 0.3,
                 shot: 0.3,
                 wall: 0.0,
+                law: peenflow::contact::friction::Tangential::Viscous,
             });
             phys.tolerance = 1e-10;
             Simulation::from_parts(phys, shots.clone(), 1e-4)

@@ -149,6 +149,7 @@ fn island(
                 touching: false,
                 contact_time: 0.0,
                 onset: 0.0,
+                ..Default::default()
             })
         })
         .collect();
@@ -875,6 +876,7 @@ fn on_incline(
         specimen: mu,
         shot: 0.0,
         wall: 0.0,
+        law: peenflow::contact::friction::Tangential::Viscous,
     });
     phys.sliding = sliding;
     let shot = ShotState::new(

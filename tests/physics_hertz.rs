@@ -123,6 +123,7 @@ fn shot_on_shot(
         touching: false,
         contact_time: 0.0,
         onset: 0.0,
+        ..Default::default()
     }];
     let mut tr = Trace {
         t: vec![0.0],

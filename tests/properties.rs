@@ -160,6 +160,7 @@ fn physics(enc: &Encounter, tol: f64) -> Physics {
             specimen: enc.mu,
             shot: enc.mu,
             wall: 0.0,
+            law: peenflow::contact::friction::Tangential::Viscous,
         });
     }
     phys

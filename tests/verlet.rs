@@ -23,6 +23,10 @@ const SHOTS: [([f64; 3], [f64; 3]); 4] = [
 ];
 
 fn scene(extra: &str) -> Scene {
+    Scene::from_toml(&scene_text(extra), "verlet test").unwrap()
+}
+
+fn scene_text(extra: &str) -> String {
     let mut text = format!(
         "duration_ms = {DURATION_MS}\ngravity_m_s2 = 9.81\n[shots]\ndiameter_mm = 0.8\n\
          [shots.feed]\ntype = \"list\"\n"
@@ -38,7 +42,7 @@ fn scene(extra: &str) -> Scene {
          [integrator]\nmethod = \"verlet\"\nfixed_step_ns = {STEP_NS}\n{extra}\
          [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n"
     );
-    Scene::from_toml(&text, "verlet test").unwrap()
+    text
 }
 
 fn run(scene: &Scene) -> RunOutput {
@@ -227,4 +231,39 @@ fn the_fixed_step_method_records_an_impact_where_the_shot_touched() {
         assert!(dx < 1e-15, "shot {id}: impact place off by {dx:e} m");
         assert_eq!(imp.first_hit, 1);
     }
+}
+
+/// The tangential spring with history (`[friction] tangential = "history"`, tested
+/// against LIGGGHTS in tests/liggghts.rs) on the column: the same run on one and two
+/// threads; and with friction switched on at coefficient 0 the frictionless run to the
+/// bit (the spring is cut to Coulomb's zero at once).
+#[test]
+fn the_history_law_is_thread_independent_and_frictionless_at_zero() {
+    let history = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\ntangential = \"history\"\n";
+    let on = |threads: usize, extra: &str, friction_on: bool| {
+        let mut text = scene_text(extra);
+        if friction_on {
+            text = text.replace("[effects]\n", "[effects]\nfriction = true\n");
+        }
+        let scene = Scene::from_toml(&text, "history test").unwrap();
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| run(&scene))
+    };
+    let (one, two) = (on(1, history, false), on(2, history, false));
+    assert_eq!(one.shots, two.shots);
+    assert_eq!(one.impacts, two.impacts);
+    assert!(
+        one.shots.iter().any(|s| s.omega.norm() > 100.0),
+        "nothing spun"
+    );
+    let frictionless = on(1, "", false);
+    let zero = on(1, "[friction]\ntangential = \"history\"\n", true);
+    for (a, b) in frictionless.shots.iter().zip(&zero.shots) {
+        assert_eq!((a.pos, a.vel), (b.pos, b.vel), "shot {}", a.id.0);
+        assert_eq!(b.omega, Vec3::zeros());
+    }
+    assert_eq!(frictionless.impacts.len(), zero.impacts.len());
 }

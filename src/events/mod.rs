@@ -1370,6 +1370,8 @@ impl<'a> Engine<'a> {
                     touching: st.is_some(),
                     contact_time: st.map_or(0.0, |p| p.contact_time),
                     onset: st.map_or(0.0, |p| p.onset),
+                    // The event scheduler runs the adaptive method: no tangential history.
+                    xi: crate::Vec3::zeros(),
                 }
             })
             .collect();

@@ -92,7 +92,7 @@ const SLIDE_SPEED: f64 = 1e-3;
 const SLIDE_OVERLAP: f64 = 1e-2;
 
 /// A shot-shot pair that may touch during the window (local member indices).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct IslandPair {
     /// First member (local index).
     pub a: u32,
@@ -104,6 +104,9 @@ pub struct IslandPair {
     pub contact_time: f64,
     /// Onset time of the current contact, s.
     pub onset: f64,
+    /// Tangential displacement of the current contact (member `a`'s contact point
+    /// relative to `b`'s), m: the `history` tangential law's; zero otherwise.
+    pub xi: Vec3,
 }
 
 /// What an island produced during a window.
@@ -421,6 +424,20 @@ fn pair_slip(
     (ri, rj, friction::tangential_part(&(vi - vj), nrm))
 }
 
+/// The lever arm (m) from a shot's centre (radius `r`) to its contact point on the
+/// specimen or the wall at `overlap`: `r` for the viscous law; for the history law
+/// (`tangent` set) `r - overlap / 2`, as LIGGGHTS takes it (the contact plane of a sphere
+/// pressed into a half-space of the same material lies half the overlap inside the
+/// sphere's undeformed surface; the pairs' is `r - overlap / 2` for both laws).
+#[inline]
+fn history_lever(r: f64, overlap: f64, tangent: Option<&[Vec3]>) -> f64 {
+    if tangent.is_some() {
+        r - 0.5 * overlap
+    } else {
+        r
+    }
+}
+
 /// Adds the start of a touch's tangential force `-(d1 s^(1/4) + d2 s^(3/2)) slip / |slip|`
 /// (`friction::onset_terms`) that a step of `h` starting `at` after the touch missed:
 /// on the first of `bodies` (member, state, lever arm to the contact point) as it acts,
@@ -591,11 +608,13 @@ impl Ctx<'_> {
     /// the same terms in the same order as in one pass over every member and pair, so
     /// `dy` is the same to the bit for any thread count.
     #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)]
     fn rhs(
         &self,
         members: &[ShotState],
         pairs: &[IslandPair],
         pushing: Option<&Pushing>,
+        tangent: Option<&[Vec3]>,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
@@ -603,6 +622,7 @@ impl Ctx<'_> {
     ) {
         work.rhs_evaluations += 1;
         let n = members.len();
+        let with = (pushing, tangent);
         let Some(blocks) = &self.blocks else {
             let (lin, ang) = dy.split_at_mut(6 * n);
             let part = Part {
@@ -611,14 +631,14 @@ impl Ctx<'_> {
                 lin,
                 ang,
             };
-            self.rhs_part::<true>(members, pairs, 0..pairs.len(), pushing, t, y, part, work);
+            self.rhs_part::<true>(members, pairs, 0..pairs.len(), with, t, y, part, work);
             return;
         };
         let parts = Part::split(dy, n, &blocks.bounds);
         let works = blocks.run(parts, |b, part| {
             let mut w = WorkCounters::default();
             let list = blocks.pairs[b].iter().map(|&q| q as usize);
-            self.rhs_part::<false>(members, pairs, list, pushing, t, y, part, &mut w);
+            self.rhs_part::<false>(members, pairs, list, with, t, y, part, &mut w);
             w
         });
         for w in &works {
@@ -629,13 +649,15 @@ impl Ctx<'_> {
     /// [`Ctx::rhs`] for the members of `dy` and the pairs `list` (ascending, every pair
     /// with a member in `dy`): a pair adds its terms to its members in `dy` and is counted
     /// by the part that holds its first member. `ALL`: `dy` holds every member.
+    /// `tangent`: the contacts' tangential forces when the history law set them
+    /// ([`Ctx::history`]), in place of the viscous law's.
     #[allow(clippy::too_many_arguments)]
     fn rhs_part<const ALL: bool>(
         &self,
         members: &[ShotState],
         pairs: &[IslandPair],
         list: impl Iterator<Item = usize>,
-        pushing: Option<&Pushing>,
+        (pushing, tangent): (Option<&Pushing>, Option<&[Vec3]>),
         t: f64,
         y: &[f64],
         dy: Part<'_>,
@@ -703,16 +725,21 @@ impl Ctx<'_> {
                     if let Some(fr) = &fr {
                         work.friction_calls += 1;
                         // Contact point below the centre; specimen normal +z.
-                        let r_c = Vec3::new(0.0, 0.0, -m.body.radius);
-                        let nz = Vec3::z();
-                        let slip =
-                            friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
-                        let gamma = friction::stick_damping(
-                            friction::sphere_on_wall_mass(m.body.mass),
-                            k,
-                            -gap,
-                        );
-                        let ft = friction::tangential_force(fr.specimen, f, &slip, gamma);
+                        // The history law acts where LIGGGHTS' does (`Ctx::history`).
+                        let r_c = Vec3::new(0.0, 0.0, -history_lever(m.body.radius, -gap, tangent));
+                        let ft = if let Some(tf) = tangent {
+                            tf[pairs.len() + i]
+                        } else {
+                            let nz = Vec3::z();
+                            let slip =
+                                friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
+                            let gamma = friction::stick_damping(
+                                friction::sphere_on_wall_mass(m.body.mass),
+                                k,
+                                -gap,
+                            );
+                            friction::tangential_force(fr.specimen, f, &slip, gamma)
+                        };
                         a += ft / m.body.mass;
                         add_at(ang, 3 * (i - lo), &(r_c.cross(&ft) / inertia));
                     }
@@ -730,17 +757,21 @@ impl Ctx<'_> {
                     if let Some(fr) = &fr {
                         work.friction_calls += 1;
                         // Contact point towards the wall.
-                        let r_c = g.outward * m.body.radius;
-                        let slip = friction::tangential_part(
-                            &(v + omega(y, n, i).cross(&r_c)),
-                            &g.outward,
-                        );
-                        let gamma = friction::stick_damping(
-                            friction::sphere_on_wall_mass(m.body.mass),
-                            k,
-                            -g.gap,
-                        );
-                        let ft = friction::tangential_force(fr.wall, f, &slip, gamma);
+                        let r_c = g.outward * history_lever(m.body.radius, -g.gap, tangent);
+                        let ft = if let Some(tf) = tangent {
+                            tf[pairs.len() + n + i]
+                        } else {
+                            let slip = friction::tangential_part(
+                                &(v + omega(y, n, i).cross(&r_c)),
+                                &g.outward,
+                            );
+                            let gamma = friction::stick_damping(
+                                friction::sphere_on_wall_mass(m.body.mass),
+                                k,
+                                -g.gap,
+                            );
+                            friction::tangential_force(fr.wall, f, &slip, gamma)
+                        };
                         a += ft / m.body.mass;
                         add_at(ang, 3 * (i - lo), &(r_c.cross(&ft) / inertia));
                     }
@@ -794,12 +825,16 @@ impl Ctx<'_> {
                     }
                     let (ri, rj, slip) =
                         pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
-                    let gamma = friction::stick_damping(
-                        friction::sphere_pair_mass(mi.mass, mj.mass),
-                        k,
-                        overlap,
-                    );
-                    let ft = friction::tangential_force(fr.shot, f, &slip, gamma);
+                    let ft = if let Some(tf) = tangent {
+                        tf[q]
+                    } else {
+                        let gamma = friction::stick_damping(
+                            friction::sphere_pair_mass(mi.mass, mj.mass),
+                            k,
+                            overlap,
+                        );
+                        friction::tangential_force(fr.shot, f, &slip, gamma)
+                    };
                     if own_i {
                         add_at(lin, 6 * (i - lo) + 3, &(ft / mi.mass));
                         let ii = INERTIA_FACTOR * mi.mass * mi.radius * mi.radius;
@@ -812,6 +847,122 @@ impl Ctx<'_> {
                     }
                 }
             }
+        }
+    }
+
+    /// The history law's step ([`friction::history_step`]) of every contact of the
+    /// members in state `y` at `t`, over `dt` (velocities at the step's half, as
+    /// [`advance_verlet`] holds them when it evaluates the forces): each contact's
+    /// tangential displacement (`IslandPair::xi`, `ShotState::specimen_xi`, `wall_xi`)
+    /// grows by its slip and is cut to Coulomb's cone, and `out` receives the tangential
+    /// forces for [`Ctx::rhs`], laid out as its `tangent` (the pairs', then each member's
+    /// on the specimen, then on the wall). A contact that has ended loses its history.
+    /// With `keep`, the displacements are read and left as they are (`dt` is then 0: the
+    /// forces at a window's start).
+    #[allow(clippy::too_many_arguments)]
+    fn history(
+        &self,
+        members: &mut [ShotState],
+        pairs: &mut [IslandPair],
+        t: f64,
+        y: &[f64],
+        dt: f64,
+        keep: bool,
+        out: &mut Vec<Vec3>,
+    ) {
+        let c = &self.phys.contacts;
+        let Some(fr) = &c.friction else {
+            return;
+        };
+        let friction::Tangential::History {
+            specimen: g_s,
+            shot: g_p,
+            wall: g_w,
+        } = fr.law
+        else {
+            return;
+        };
+        let n = members.len();
+        out.clear();
+        out.resize(pairs.len() + 2 * n, Vec3::zeros());
+        let step =
+            |xi: &mut Vec3, n: &Vec3, slip: &Vec3, k_t: f64, gamma_t: f64, mu: f64, f_n: f64| {
+                if keep {
+                    let mut x = *xi;
+                    friction::history_step(&mut x, n, slip, 0.0, k_t, gamma_t, mu, f_n)
+                } else {
+                    friction::history_step(xi, n, slip, dt, k_t, gamma_t, mu, f_n)
+                }
+            };
+        for (i, m) in members.iter_mut().enumerate() {
+            let moves = moving(m, t);
+            let (p, v) = (pos(y, i), vel(y, i));
+            let mass = m.body.mass;
+            let mut on_specimen = false;
+            if moves && let Some(sp) = &c.specimen {
+                let gap = sp.gap(&p, m.body.radius);
+                if gap < 0.0 {
+                    on_specimen = true;
+                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let f_n = sp.law.force(k, mass, -gap, -v.z);
+                    let r_c = Vec3::new(0.0, 0.0, -(m.body.radius + 0.5 * gap));
+                    let nz = Vec3::z();
+                    let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
+                    let k_t = friction::history_stiffness(g_s, k, -gap);
+                    let gamma = friction::history_damping(g_s, sp.law.damping, mass, k, -gap);
+                    out[pairs.len() + i] =
+                        step(&mut m.specimen_xi, &nz, &slip, k_t, gamma, fr.specimen, f_n);
+                }
+            }
+            if !on_specimen && !keep {
+                m.specimen_xi = Vec3::zeros();
+            }
+            let mut on_wall = false;
+            if moves
+                && let Some(w) = &c.wall
+                && let Some(g) = w.geometry(&p, m.body.radius)
+                && g.gap < 0.0
+            {
+                on_wall = true;
+                let k = w.law.stiffness(w.effective_radius(m.body.radius));
+                let f_n = w.law.force(k, mass, -g.gap, v.dot(&g.outward));
+                let r_c = g.outward * (m.body.radius + 0.5 * g.gap);
+                let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &g.outward);
+                let k_t = friction::history_stiffness(g_w, k, -g.gap);
+                let gamma = friction::history_damping(g_w, w.law.damping, mass, k, -g.gap);
+                out[pairs.len() + n + i] =
+                    step(&mut m.wall_xi, &g.outward, &slip, k_t, gamma, fr.wall, f_n);
+            }
+            if !on_wall && !keep {
+                m.wall_xi = Vec3::zeros();
+            }
+        }
+        let Some(pc) = &c.pair else {
+            return;
+        };
+        for (q, pr) in pairs.iter_mut().enumerate() {
+            let (i, j) = (pr.a as usize, pr.b as usize);
+            let (mi, mj) = (&members[i].body, &members[j].body);
+            let dpos = pos(y, j) - pos(y, i);
+            let dist = dpos.norm();
+            let overlap = mi.radius + mj.radius - dist;
+            if !moving(&members[i], t) || !moving(&members[j], t) || overlap <= 0.0 || dist == 0.0 {
+                if !keep {
+                    pr.xi = Vec3::zeros();
+                }
+                continue;
+            }
+            let nrm = dpos / dist;
+            let rate = -(vel(y, j) - vel(y, i)).dot(&nrm);
+            let k = pc
+                .law
+                .stiffness(PairContact::effective_radius(mi.radius, mj.radius));
+            let m_eff = effective_mass(mi.mass, mj.mass);
+            let f_n = pc.law.force(k, m_eff, overlap, rate);
+            let (_, _, slip) = pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
+            let k_t = friction::history_stiffness(g_p, k, overlap);
+            let gamma = friction::history_damping(g_p, pc.law.damping, m_eff, k, overlap);
+            out[q] = step(&mut pr.xi, &nrm, &slip, k_t, gamma, fr.shot, f_n);
         }
     }
 
@@ -1950,7 +2101,7 @@ fn trial(
     // may still be held back there, `hold_entries`).
     dopri.step(
         &mut |_, yy: &[f64], dd: &mut [f64]| {
-            ctx.rhs(members, pairs, Some(pushing), t, yy, dd, work)
+            ctx.rhs(members, pairs, Some(pushing), None, t, yy, dd, work)
         },
         t,
         y,
@@ -2385,6 +2536,17 @@ fn advance_adaptive(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) -> f64 {
+    assert!(
+        !matches!(
+            phys.contacts.friction,
+            Some(friction::Friction {
+                law: friction::Tangential::History { .. },
+                ..
+            })
+        ),
+        "the history tangential law runs on the fixed-step method only (the scene loader \
+         refuses it with the adaptive one)"
+    );
     let ctx = Ctx {
         phys,
         onsets_located: true,
@@ -3051,7 +3213,29 @@ fn advance_verlet(
     }
     set_regions(members, t, y);
     ctx.apply_events(members, pairs, t, y, out);
-    ctx.rhs(members, pairs, None, t, y, acc, &mut work);
+    // The history law's tangential forces (`Ctx::history`); empty for the viscous law.
+    let history = matches!(
+        phys.contacts.friction,
+        Some(friction::Friction {
+            law: friction::Tangential::History { .. },
+            ..
+        })
+    );
+    let mut tangent = Vec::new();
+    ctx.history(members, pairs, t, y, 0.0, true, &mut tangent);
+    fn tf(history: bool, tangent: &[Vec3]) -> Option<&[Vec3]> {
+        history.then_some(tangent)
+    }
+    ctx.rhs(
+        members,
+        pairs,
+        None,
+        tf(history, &tangent),
+        t,
+        y,
+        acc,
+        &mut work,
+    );
     // Shots that stepped before take their last evaluation (see `ShotState::verlet_acc`).
     for (i, m) in members.iter().enumerate() {
         if let Some((a, alpha)) = m.verlet_acc {
@@ -3100,7 +3284,19 @@ fn advance_verlet(
         // Forces at the new positions (with the half-step velocities), second kick. (The
         // step's starting forces move to `prev`: `rhs` writes every entry of `acc`.)
         std::mem::swap(acc, prev);
-        ctx.rhs(members, pairs, None, t, y, acc, &mut work);
+        if history {
+            ctx.history(members, pairs, t, y, h, false, &mut tangent);
+        }
+        ctx.rhs(
+            members,
+            pairs,
+            None,
+            tf(history, &tangent),
+            t,
+            y,
+            acc,
+            &mut work,
+        );
         for (i, m) in members.iter().enumerate() {
             if moving(m, t) {
                 for k in 0..3 {

@@ -396,7 +396,7 @@ impl Default for RestitutionFile {
 
 /// `[friction]`: Coulomb coefficients. All zero (the paper: frictionless contacts)
 /// unless set; any coefficient above zero turns the `friction` effect on under "auto".
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct FrictionFile {
     /// Shot on specimen.
@@ -405,6 +405,21 @@ pub struct FrictionFile {
     pub shot_shot: f64,
     /// Shot on the nozzle bore wall.
     pub shot_nozzle: f64,
+    /// The tangential law: `"viscous"` (Coulomb with viscous stick, no history; the
+    /// default) or `"history"` (tangential spring with history, as LIGGGHTS' `tangential
+    /// history`; with `method = "verlet"`).
+    pub tangential: String,
+}
+
+impl Default for FrictionFile {
+    fn default() -> Self {
+        FrictionFile {
+            shot_specimen: 0.0,
+            shot_shot: 0.0,
+            shot_nozzle: 0.0,
+            tangential: "viscous".into(),
+        }
+    }
 }
 
 /// `[integrator]`.

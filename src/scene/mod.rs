@@ -385,6 +385,9 @@ pub struct FrictionCoefficients {
     pub shot_shot: f64,
     /// Shot on nozzle wall.
     pub shot_nozzle: f64,
+    /// The tangential law: `false` Coulomb with viscous stick, no history (the default);
+    /// `true` the tangential spring with history (`tangential = "history"`).
+    pub history: bool,
 }
 
 /// Integrator settings.

@@ -935,6 +935,16 @@ impl SceneFile {
                 B::In(2.0),
                 "",
             )?,
+            history: match fr.tangential.as_str() {
+                "viscous" => false,
+                "history" => true,
+                other => {
+                    return Err(c.invalid(
+                        "friction.tangential",
+                        format!("unknown value \"{other}\"; allowed: \"viscous\", \"history\""),
+                    ));
+                }
+            },
         };
         let it = &f.integrator;
         let method = match (it.method.as_str(), it.fixed_step_ns) {
@@ -1009,6 +1019,14 @@ impl SceneFile {
                 "integrator.method",
                 "the velocity-Verlet baseline does not renew turbulent eddies: use method = \"adaptive\" \
                  with jet.turbulence_intensity > 0, or set effects.turbulent_dispersion = false",
+            ));
+        }
+        if friction.history && matches!(method, crate::integrate::island::Method::Adaptive) {
+            return Err(c.invalid(
+                "friction.tangential",
+                "\"history\" (the tangential spring) runs on the fixed-step method only: set \
+                 [integrator] method = \"verlet\" with fixed_step_ns (a fiftieth of the contact \
+                 time, as LIGGGHTS steps), or use tangential = \"viscous\"",
             ));
         }
         let dm = &f.domain;
