@@ -4,14 +4,16 @@ steel shots of 0.8 mm at 5 % volume fraction falling at 70 m/s onto a steel wall
 meeting the incoming shots) and peenflow's bench/scenes/pack_stream_10k.toml, frictionless
 and with LIGGGHTS' friction 0.3, over several seeds of each code.
 
-usage: python3 bench/liggghts_outcomes.py [--seeds K]   (default 4 seeds; about 1.5 minutes)
+usage: python3 bench/liggghts_outcomes.py [--seeds K]   (default 4 seeds; about 3 minutes)
 
 Needs `liggghts` (apt-get install -y liggghts) and reads stream.in from
 ../shared/bench/liggghts (or $LIGGGHTS_INPUTS), as bench/bench.py does.
 
 First, one shot onto the wall at 70 m/s from 0 to 80 degrees, with friction 0.3: the
 rebound in each code next to rigid-body impact theory (LIGGGHTS' tangential spring against
-peenflow's spring-free tangential law).
+peenflow's default, spring-free tangential law, and against peenflow's tangential spring
+with history, `tangential = "history"` on its fixed-step method at 20 ns, since session
+42). With friction the stream is also run with that law (about 1.5 minutes more).
 
 In the stream the shots collide with each other: single trajectories are chaotic, and the two codes
 place their shots with different random generators. What is compared is therefore the
@@ -215,26 +217,29 @@ def oblique(tmp, mu=0.3, e=0.7, speed=70.0):
              f"type = \"list\"\n{shots}[restitution]\nshot_specimen = {e}\n[friction]\nshot_specimen = {mu}\n"
              "[effects]\ndrag = false\nlateral_force = false\ngravity = false\nspecimen_contact = true\n"
              "shot_shot_contact = false\nnozzle_wall_contact = false\n")
-    path = os.path.join(d, "oblique.toml")
-    open(path, "w").write(scene)
-    run([BIN, "run", path, "--out", os.path.join(d, "pf"), "-q", "-j", "1"], d)
-    pf = read_shots(os.path.join(d, "pf", "shots.csv"))
+    runs = []
+    for name, law in (("pf", ""), ("pf_history", HISTORY)):
+        path = os.path.join(d, f"{name}.toml")
+        open(path, "w").write(scene.replace("[effects]", law + "[effects]"))
+        run([BIN, "run", path, "--out", os.path.join(d, name), "-q", "-j", "1"], d)
+        runs.append(read_shots(os.path.join(d, name, "shots.csv")))
+    pf, ph = runs
     print(f"One shot onto the wall at {speed:g} m/s, friction {mu}, restitution {e}: rebound tangential and normal "
           "velocity and surface spin speed omega R, m/s")
     print()
     print("| angle from normal, deg | incoming v_t | LIGGGHTS v_t' / v_n' / omega R | peenflow v_t' / v_n' / omega R "
-          "| rigid-body theory v_t' / omega R (regime) |")
-    print("|---|---|---|---|---|")
+          "| peenflow, history law, Verlet 20 ns | rigid-body theory v_t' / omega R (regime) |")
+    print("|---|---|---|---|---|---|")
     for k, a in enumerate(OBLIQUE_ANGLES):
         vt, vn = speed * math.sin(math.radians(a)), speed * math.cos(math.radians(a))
         slide = vt > 3.5 * mu * (1 + e) * vn
         theory = vt - mu * (1 + e) * vn if slide else 5 / 7 * vt
         spin = 2.5 * mu * (1 + e) * vn if slide else theory
         cells = []
-        for p in (lg[k], pf[k]):
+        for p in (lg[k], pf[k], ph[k]):
             # y spin: a shot moving in +x on the plane z = 0 spins about +y
             cells.append(f"{p[3]:.2f} / {p[5]:.2f} / {p[7] * RADIUS:.2f}")
-        print(f"| {a} | {vt:.2f} | {cells[0]} | {cells[1]} | {theory:.2f} / {spin:.2f} ({'sliding' if slide else 'sticking'}) |")
+        print(f"| {a} | {vt:.2f} | {' | '.join(cells)} | {theory:.2f} / {spin:.2f} ({'sliding' if slide else 'sticking'}) |")
     print()
     sys.stdout.flush()
 
@@ -325,6 +330,20 @@ def same_start(tmp, seed=12345):
     sys.stdout.flush()
 
 
+# With friction, peenflow runs with its default (viscous) tangential law and with the
+# tangential spring with history, LIGGGHTS' own law, on its fixed-step method at
+# LIGGGHTS' step (the history law's method; since session 42).
+HISTORY = 'tangential = "history"\n[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\n'
+
+
+def peenflow_codes(mu):
+    """The peenflow runs compared at friction `mu`: (label, scene lines before [effects])."""
+    runs = [("peenflow", "")]
+    if mu > 0:
+        runs.append(("peenflow, history law, Verlet 20 ns", HISTORY))
+    return runs
+
+
 def main():
     argv = sys.argv[1:]
     seeds = 4
@@ -357,19 +376,20 @@ def main():
                         central(read_dump(os.path.join(d, f"dump.{s}.txt")), width))
                 impacts.setdefault((mu, "LIGGGHTS"), []).append(
                     central(liggghts_impacts(os.path.join(d, "dump.impacts")), width, at=1))
-                for s in steps:
-                    ms = s * DT_NS * 1e-6
-                    t = scene.replace("duration_ms = 0.17\n", f"duration_ms = {ms:.6g}\nseed = {k + 1}\n")
-                    t = t.replace("[effects]", f"[friction]\nshot_specimen = {mu}\nshot_shot = {mu}\n[effects]")
-                    path = os.path.join(tmp, "pf.toml")
-                    open(path, "w").write(t)
-                    out = os.path.join(tmp, f"pf_{mu}_{k}_{s}")
-                    run([BIN, "run", path, "--out", out, "-q", "-j", "1"], tmp)
-                    states.setdefault((mu, "peenflow"), {}).setdefault(s, []).append(
-                        central(read_shots(os.path.join(out, "shots.csv")), width))
-                    if s == END_STEP:
-                        impacts.setdefault((mu, "peenflow"), []).append(
-                            central(read_impacts(os.path.join(out, "impacts.csv")), width, at=1))
+                for code, law in peenflow_codes(mu):
+                    for s in steps:
+                        ms = s * DT_NS * 1e-6
+                        t = scene.replace("duration_ms = 0.17\n", f"duration_ms = {ms:.6g}\nseed = {k + 1}\n")
+                        t = t.replace("[effects]", f"[friction]\nshot_specimen = {mu}\nshot_shot = {mu}\n{law}[effects]")
+                        path = os.path.join(tmp, "pf.toml")
+                        open(path, "w").write(t)
+                        out = os.path.join(tmp, f"pf_{mu}_{k}_{s}")
+                        run([BIN, "run", path, "--out", out, "-q", "-j", "1", "--force"], tmp)
+                        states.setdefault((mu, code), {}).setdefault(s, []).append(
+                            central(read_shots(os.path.join(out, "shots.csv")), width))
+                        if s == END_STEP:
+                            impacts.setdefault((mu, code), []).append(
+                                central(read_impacts(os.path.join(out, "impacts.csv")), width, at=1))
                 print(f"friction {mu}: seed {k + 1} of {seeds} done", file=sys.stderr)
         keys = ("ke_mj", "rot_mj", "up", "vz", "vh", "p10", "p50", "p90")
         fmt = {"ke_mj": "{:.4f}", "rot_mj": "{:.4f}", "up": "{:.4f}", "vz": "{:.2f}", "vh": "{:.2f}", "p10": "{:.2f}", "p50": "{:.2f}", "p90": "{:.2f}"}
@@ -382,7 +402,7 @@ def main():
         for mu in (0.0, 0.3):
             for s in steps:
                 pooled = {}
-                for code in ("LIGGGHTS", "peenflow"):
+                for code in ["LIGGGHTS"] + [c for c, _ in peenflow_codes(mu)]:
                     per = states[(mu, code)][s]
                     pooled[code] = [p for pts in per for p in pts]
                     st = stats(pooled[code])
@@ -393,7 +413,7 @@ def main():
                     if code == "LIGGGHTS":
                         dist = f"({own:.3f})"
                     else:
-                        dist = f"{ks([p[5] for p in pooled['LIGGGHTS']], [p[5] for p in pooled['peenflow']]):.3f} ({own:.3f})"
+                        dist = f"{ks([p[5] for p in pooled['LIGGGHTS']], [p[5] for p in pooled[code]]):.3f} ({own:.3f})"
                     print(f"| {mu} | {s * DT_NS * 1e-3:g} | {code} | {st['n'] / seeds:.0f} | {cell('ke_mj')} | {cell('rot_mj')} | {cell('up')} | "
                           f"{cell('vz')} | {cell('vh')} | {st['p10']:.2f} / {st['p50']:.2f} / {st['p90']:.2f} | {dist} |")
                 sys.stdout.flush()
@@ -407,7 +427,7 @@ def main():
         print("|---|---|---|---|---|---|---|---|---|---|---|")
         bands = ((0, 10), (10, 30), (30, 50), (50, 69.9), (69.9, 70.1), (70.1, math.inf))
         for mu in (0.0, 0.3):
-            for code in ("LIGGGHTS", "peenflow"):
+            for code in ["LIGGGHTS"] + [c for c, _ in peenflow_codes(mu)]:
                 per = impacts[(mu, code)]
                 pooled = [p for imps in per for p in imps]
                 vn = sorted(p[3] for p in pooled)

@@ -8,7 +8,7 @@ batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
-                                   [--dense] [--vacuum] [--verlet]
+                                   [--dense] [--vacuum] [--verlet [--history]]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -25,6 +25,8 @@ With --verlet: the same scenes on the fixed-step
 method (`method = "verlet"`) instead of a tolerance, at a step of 1/20 to 1/100 of the
 shortest Hertz contact time the scene can have, without turbulence (refused with it),
 and shorter (air scenes 1-3 ms, boxes at most 1 ms) since every shot pays every step.
+With --verlet --history (since session 42): their friction tables with the tangential
+spring with history (`tangential = "history"`) instead of the viscous law.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -406,7 +408,11 @@ def main():
                     help="streams through a nozzle without air (the event scheduler's entries)")
     ap.add_argument("--verlet", action="store_true",
                     help="the scenes on the fixed-step method instead of a tolerance")
+    ap.add_argument("--history", action="store_true",
+                    help="with --verlet: friction with the tangential spring with history")
     a = ap.parse_args()
+    if a.history and not a.verlet:
+        ap.error("--history needs --verlet (the history law runs on the fixed-step method)")
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
     for k in range(a.count):
@@ -422,6 +428,9 @@ def main():
             text = scene(r)
         if a.verlet:
             text = fixed_step(r, text, a.ballistic)
+        if a.history:
+            # No draw: the scenes are those of --verlet with the same seed.
+            text = text.replace("[friction]\n", '[friction]\ntangential = "history"\n')
         with open(path, "w") as f:
             f.write(text)
         out = os.path.join(a.out, f"out_{a.seed}_{k}")
