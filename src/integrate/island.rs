@@ -28,7 +28,7 @@ use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::HertzLaw;
 use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
-use crate::forces::{ForceSet, Turbulence};
+use crate::forces::{ForceSet, ShotBody, Turbulence};
 use crate::integrate::dopri::{DenseStep, Dopri5, KINK_MISS, step_factor};
 use crate::integrate::{add_at, vec_at};
 use crate::record::{Impact, RunEvent};
@@ -424,6 +424,46 @@ fn pair_slip(
     (ri, rj, friction::tangential_part(&(vi - vj), nrm))
 }
 
+/// A touching pair's contact in state `y`: the unit normal from member `i` to `j`, the
+/// overlap, its rate, the Hertz stiffness and the effective mass.
+struct PairGeom {
+    nrm: Vec3,
+    overlap: f64,
+    rate: f64,
+    k: f64,
+    m_eff: f64,
+}
+
+/// [`PairGeom`] of members `i` and `j` (their bodies given) in state `y`; `None` when
+/// they do not overlap.
+#[inline]
+fn pair_geometry(
+    pc: &PairContact,
+    (i, mi): (usize, &ShotBody),
+    (j, mj): (usize, &ShotBody),
+    y: &[f64],
+) -> Option<PairGeom> {
+    let dpos = pos(y, j) - pos(y, i);
+    if surely_apart(&dpos, mi.radius + mj.radius) {
+        return None;
+    }
+    let dist = dpos.norm();
+    let overlap = mi.radius + mj.radius - dist;
+    if overlap <= 0.0 || dist == 0.0 {
+        return None;
+    }
+    let nrm = dpos / dist;
+    Some(PairGeom {
+        nrm,
+        overlap,
+        rate: -(vel(y, j) - vel(y, i)).dot(&nrm),
+        k: pc
+            .law
+            .stiffness(PairContact::effective_radius(mi.radius, mj.radius)),
+        m_eff: effective_mass(mi.mass, mj.mass),
+    })
+}
+
 /// The lever arm (m) from a shot's centre (radius `r`) to its contact point on the
 /// specimen or the wall at `overlap`: `r` for the viscous law; for the history law
 /// (`tangent` set) `r - overlap / 2`, as LIGGGHTS takes it (the contact plane of a sphere
@@ -791,21 +831,16 @@ impl Ctx<'_> {
                     work.pair_contact_checks += 1;
                 }
                 let (mi, mj) = (&members[i].body, &members[j].body);
-                let dpos = pos(y, j) - pos(y, i);
-                if surely_apart(&dpos, mi.radius + mj.radius) {
+                let Some(PairGeom {
+                    nrm,
+                    overlap,
+                    rate,
+                    k,
+                    m_eff,
+                }) = pair_geometry(pc, (i, mi), (j, mj), y)
+                else {
                     continue;
-                }
-                let dist = dpos.norm();
-                let overlap = mi.radius + mj.radius - dist;
-                if overlap <= 0.0 || dist == 0.0 {
-                    continue;
-                }
-                let nrm = dpos / dist;
-                let rate = -(vel(y, j) - vel(y, i)).dot(&nrm);
-                let k = pc
-                    .law
-                    .stiffness(PairContact::effective_radius(mi.radius, mj.radius));
-                let m_eff = effective_mass(mi.mass, mj.mass);
+                };
                 // Unclamped while pushing at the step's start, as the specimen's above.
                 let f = if pushing.is_some_and(|p| p.pairs[q]) {
                     pc.law.force_unclamped(k, m_eff, overlap, rate)
@@ -943,21 +978,22 @@ impl Ctx<'_> {
         for (q, pr) in pairs.iter_mut().enumerate() {
             let (i, j) = (pr.a as usize, pr.b as usize);
             let (mi, mj) = (&members[i].body, &members[j].body);
-            let dpos = pos(y, j) - pos(y, i);
-            let dist = dpos.norm();
-            let overlap = mi.radius + mj.radius - dist;
-            if !moving(&members[i], t) || !moving(&members[j], t) || overlap <= 0.0 || dist == 0.0 {
+            let geometry = (moving(&members[i], t) && moving(&members[j], t))
+                .then(|| pair_geometry(pc, (i, mi), (j, mj), y))
+                .flatten();
+            let Some(PairGeom {
+                nrm,
+                overlap,
+                rate,
+                k,
+                m_eff,
+            }) = geometry
+            else {
                 if !keep {
                     pr.xi = Vec3::zeros();
                 }
                 continue;
-            }
-            let nrm = dpos / dist;
-            let rate = -(vel(y, j) - vel(y, i)).dot(&nrm);
-            let k = pc
-                .law
-                .stiffness(PairContact::effective_radius(mi.radius, mj.radius));
-            let m_eff = effective_mass(mi.mass, mj.mass);
+            };
             let f_n = pc.law.force(k, m_eff, overlap, rate);
             let (_, _, slip) = pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
             let k_t = friction::history_stiffness(g_p, k, overlap);
@@ -3222,18 +3258,36 @@ fn advance_verlet(
         })
     );
     let mut tangent = Vec::new();
-    ctx.history(members, pairs, t, y, 0.0, true, &mut tangent);
-    fn tf(history: bool, tangent: &[Vec3]) -> Option<&[Vec3]> {
-        history.then_some(tangent)
-    }
-    ctx.rhs(
+    // The forces at `t`: with the history law, its contacts first advanced by `dt`
+    // (`None`: read as they are).
+    let forces = |ctx: &Ctx,
+                  members: &mut [ShotState],
+                  pairs: &mut [IslandPair],
+                  (t, dt): (f64, Option<f64>),
+                  y: &[f64],
+                  (tangent, acc): (&mut Vec<Vec3>, &mut [f64]),
+                  work: &mut WorkCounters| {
+        if history {
+            ctx.history(
+                members,
+                pairs,
+                t,
+                y,
+                dt.unwrap_or(0.0),
+                dt.is_none(),
+                tangent,
+            );
+        }
+        let tf = history.then_some(&tangent[..]);
+        ctx.rhs(members, pairs, None, tf, t, y, acc, work);
+    };
+    forces(
+        &ctx,
         members,
         pairs,
-        None,
-        tf(history, &tangent),
-        t,
+        (t, None),
         y,
-        acc,
+        (&mut tangent, acc),
         &mut work,
     );
     // Shots that stepped before take their last evaluation (see `ShotState::verlet_acc`).
@@ -3284,17 +3338,13 @@ fn advance_verlet(
         // Forces at the new positions (with the half-step velocities), second kick. (The
         // step's starting forces move to `prev`: `rhs` writes every entry of `acc`.)
         std::mem::swap(acc, prev);
-        if history {
-            ctx.history(members, pairs, t, y, h, false, &mut tangent);
-        }
-        ctx.rhs(
+        forces(
+            &ctx,
             members,
             pairs,
-            None,
-            tf(history, &tangent),
-            t,
+            (t, Some(h)),
             y,
-            acc,
+            (&mut tangent, acc),
             &mut work,
         );
         for (i, m) in members.iter().enumerate() {
