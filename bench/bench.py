@@ -80,6 +80,7 @@ def peenflow(scene, threads, tmp, tag):
         "wall_per_ms": wall / (s["simulated_time_s"] * 1e3),
         "rss_mb": rss,
         "left_domain": s["left_domain"],
+        "scheduler": s["scheduler"],
     }
 
 
@@ -152,6 +153,8 @@ def liggghts_loop_times(log):
 MATCHED = "[integrator]\ntolerance = 1e-4\n"
 # LIGGGHTS' Coulomb friction (0.3) at both contacts.
 FRICTION = "[friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n"
+# LIGGGHTS' integrator and step, on the event scheduler (with `FRICTION` and the history law).
+HISTORY_EVENTS = '[integrator]\nmethod = "verlet"\nfixed_step_ns = 20\nscheduler = "events"\n'
 
 
 def liggghts_inputs(tmp, names, inputs=None):
@@ -290,6 +293,12 @@ def liggghts(tmp):
     fric = FRICTION
     fric_scene = os.path.join(tmp, "pack_matched_friction.toml")
     open(fric_scene, "w").write(text.replace("[effects]", matched + fric + "[effects]"))
+    # LIGGGHTS' own contact model and integrator: its tangential law (history), velocity
+    # Verlet at its 20 ns step, on the event scheduler (free flight in closed form, each
+    # contact stepped; docs/performance.md, session 43).
+    hist_scene = os.path.join(tmp, "pack_history_events.toml")
+    open(hist_scene, "w").write(text.replace(
+        "[effects]", HISTORY_EVENTS + fric + 'tangential = "history"\n[effects]'))
     # The machine is shared and noisy: the stream scenes (a few seconds each) run in
     # REPEATS rounds, each round LIGGGHTS once and every peenflow variant once (a slow
     # spell of the machine then hits both), and the fastest run of each counts.
@@ -298,14 +307,15 @@ def liggghts(tmp):
     for k in range(REPEATS):
         lg = liggghts_loop("stream", stream_args, 1)
         results["stream"] = min(results["stream"], lg)
-        for tag, scene in [("ps", os.path.join(SCENES, "pack_stream_10k.toml")), ("ps_fast", fast_scene), ("ps_fric", fric_scene)]:
+        for tag, scene in [("ps", os.path.join(SCENES, "pack_stream_10k.toml")), ("ps_fast", fast_scene), ("ps_fric", fric_scene), ("ps_hist", hist_scene)]:
             r = peenflow(scene, 1, tmp, tag)
             if tag not in best or r["wall"] < best[tag]["wall"]:
                 best[tag] = r
             if tag == "ps_fast":
                 print(f"round {k + 1}: LIGGGHTS stream {lg:.2f} s, peenflow matched {r['wall']:.2f} s: {lg / r['wall']:.2f}x")
         sys.stdout.flush()
-    ps, ps_fast, ps_fric = best["ps"], best["ps_fast"], best["ps_fric"]
+    ps, ps_fast, ps_fric, ps_hist = best["ps"], best["ps_fast"], best["ps_fric"], best["ps_hist"]
+    assert ps_hist["scheduler"] == "events", "the fixed-step stream fell back to windows" 
     results["dense"] = liggghts_loop("dense", ["-in", "dense.in", "-var", "nx", "16", "-var", "ny", "16"], 2)
     win_scene = os.path.join(tmp, "pack_windows.toml")
     open(win_scene, "w").write(text.replace("[effects]", '[integrator]\nscheduler = "windows"\n[effects]'))
@@ -328,6 +338,7 @@ def liggghts(tmp):
     print(f"| stream, 10,000 shots at 70 m/s, 170 us: event scheduler, tolerance 1e-6 (default) | {lg:.2f} | {ps['wall']:.2f} | {lg / ps['wall']:.2f} |")
     print(f"| same, event scheduler at LIGGGHTS' accuracy (tolerance 1e-4) | {lg:.2f} | {ps_fast['wall']:.2f} | {lg / ps_fast['wall']:.2f} |")
     print(f"| same, event scheduler at LIGGGHTS' accuracy, with LIGGGHTS' friction (0.3) | {lg:.2f} | {ps_fric['wall']:.2f} | {lg / ps_fric['wall']:.2f} |")
+    print(f"| same, with LIGGGHTS' friction and tangential law (history), velocity Verlet at 20 ns on the event scheduler | {lg:.2f} | {ps_hist['wall']:.2f} | {lg / ps_hist['wall']:.2f} |")
     print(f"| same, window scheduler, default accuracy | {lg:.2f} | {ps_win['wall']:.2f} | {lg / ps_win['wall']:.2f} |")
     # LIGGGHTS dense: settling (5,000) + timed (5,000) steps = 200 us; peenflow's bed runs 200 us.
     print(f"| dense bed, 10,240 shots, 200 us (window scheduler: shots start in contact) | {results['dense']:.2f} | {bed['wall']:.2f} | {results['dense'] / bed['wall']:.2f} |")

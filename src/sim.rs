@@ -1106,7 +1106,9 @@ impl Simulation {
     }
 
     /// Chooses the scheduler (default [`Scheduler::Auto`]: events for ballistic scenes
-    /// whose shots do not start in contact, else windows). [`Scheduler::Events`] on
+    /// whose shots do not start in contact on the adaptive method, else windows; the
+    /// fixed-step method takes events only when asked, as LIGGGHTS' manner is its
+    /// default). [`Scheduler::Events`] on
     /// physics it does not suit, or with snapshots, falls back to windows (scene files
     /// asking for it on unsuitable physics are refused by [`Simulation::new`]).
     pub fn with_scheduler(mut self, scheduler: Scheduler) -> Self {
@@ -1185,7 +1187,9 @@ impl Simulation {
         } else if self.snapshot_interval.is_none()
             && crate::events::unsuitable(&self.physics).is_none()
             && (self.scheduler == Scheduler::Events
-                || (self.scheduler == Scheduler::Auto && !self.starts_packed()))
+                || (self.scheduler == Scheduler::Auto
+                    && matches!(self.physics.method, Method::Adaptive)
+                    && !self.starts_packed()))
         {
             "events"
         } else {

@@ -712,3 +712,35 @@ fn a_shot_thrown_up_falls_back_through_the_cells_it_rose_through() {
     assert!(out.impacts.len() > 10, "{}", out.impacts.len());
     assert!(out.events.is_empty(), "{:?}", out.events);
 }
+
+/// On the fixed-step method (`method = "verlet"` with `scheduler = "events"`), a give-up
+/// says the run was redone on windows, where that method steps every shot on one grid,
+/// and suggests no step: the scene has one.
+#[test]
+fn a_give_up_on_the_fixed_step_method_suggests_no_step() {
+    let gave_up = |on_fixed_step| {
+        peenflow::events::GaveUp {
+            time_s: 1e-4,
+            members: 40,
+            why: peenflow::events::GiveUpReason::Unverified,
+            fixed_step: 2e-8,
+            on_fixed_step,
+        }
+        .to_string()
+    };
+    let (fixed, adaptive) = (gave_up(true), gave_up(false));
+    assert!(
+        fixed.starts_with("the event scheduler gave up at t = 0.100000 ms: a cluster of 40 shots")
+    );
+    assert!(
+        fixed.contains(
+            "redone on windows, where the fixed-step method steps every shot on one grid"
+        )
+    );
+    assert!(fixed.contains("`scheduler = \"windows\"`"), "{fixed}");
+    assert!(!fixed.contains("fixed_step_ns"), "{fixed}");
+    assert!(
+        adaptive.contains("`method = \"verlet\"` with `fixed_step_ns = 20`"),
+        "{adaptive}"
+    );
+}

@@ -17,6 +17,15 @@
 //! where its steps are the island integrator's (same contact law, onset location, impact
 //! record and accuracy controls as the window scheduler in `sim.rs`).
 //!
+//! **The fixed-step method** (`method = "verlet"`, with `scheduler = "events"` asked
+//! for) runs here too: a cluster is stepped by velocity Verlet at the fixed step from
+//! its start (`island::advance_until_apart`), contacts seen at step ends and impacts
+//! recorded at the touch, as on windows, and the history law's tangential
+//! displacements are kept across chunks with the pairs (`PairState::xi`) and the shots
+//! (`ShotState::specimen_xi`). Only the step grid differs from the windows run's (it
+//! starts at each cluster's start, not at zero). Every contact opens a cluster: the
+//! lean path is the adaptive method's.
+//!
 //! **Look-ahead and its guards.** A cluster is integrated ahead of the queue's time (to
 //! the end of its contact), so a shot outside it must not reach it meanwhile:
 //! * shots whose free path comes within contact distance (plus 10 %) of a member's free
@@ -136,9 +145,6 @@ pub fn unsuitable(phys: &Physics) -> Option<&'static str> {
     }) {
         return Some("gravity does not point down (-z)");
     }
-    if !matches!(phys.method, Method::Adaptive) {
-        return Some("the velocity-Verlet baseline steps every shot on a global clock");
-    }
     None
 }
 
@@ -190,6 +196,8 @@ impl Eq for Ev {}
 struct PairState {
     contact_time: f64,
     onset: f64,
+    /// The history law's tangential displacement (`IslandPair::xi`).
+    xi: Vec3,
 }
 
 #[derive(Debug, Clone)]
@@ -391,7 +399,8 @@ struct Engine<'a> {
     next_gen: u32,
     out: IslandOutput,
     scratch: Scratch,
-    /// Whether lone contacts take the lean path.
+    /// Whether lone contacts take the lean path (the adaptive method only: the
+    /// fixed-step method steps every contact, as LIGGGHTS does).
     lean: bool,
     /// A step for the fixed-step method, s, for the give-up message ([`fixed_step_hint`]).
     fixed_step: f64,
@@ -424,6 +433,9 @@ pub struct GaveUp {
     pub why: GiveUpReason,
     /// A step for the fixed-step method on this scene, s ([`fixed_step_hint`]).
     pub fixed_step: f64,
+    /// Whether the run is on the fixed-step method already (the message then suggests
+    /// no step).
+    pub on_fixed_step: bool,
 }
 
 /// Shots carried per integrator step over the latest steps: the whole run until it has
@@ -490,6 +502,13 @@ impl std::fmt::Display for GaveUp {
         } else {
             format!("{:.2}", ns)
         };
+        if self.on_fixed_step {
+            return write!(
+                f,
+                "the event scheduler gave up at t = {:.6} ms: {why} (a dense pile); the run was redone on windows, where the fixed-step method steps every shot on one grid (`scheduler = \"windows\"` under [integrator] skips the attempt: docs/performance.md)",
+                self.time_s * 1e3,
+            );
+        }
         write!(
             f,
             "the event scheduler gave up at t = {:.6} ms: {why} (a dense pile); the run was redone on windows (`scheduler = \"windows\"` under [integrator] skips the attempt; `method = \"verlet\"` with `fixed_step_ns = {ns}`, a fiftieth of the fastest impact's contact time, steps a pile as LIGGGHTS does, at that step's accuracy and usually much faster: docs/performance.md)",
@@ -545,7 +564,7 @@ pub fn run(
     let order = spatial_order(shots);
     let mut sorted: Vec<ShotState> = order.iter().map(|&i| shots[i].clone()).collect();
     let mut eng = Engine::new(phys, &mut sorted, end);
-    eng.lean = lean;
+    eng.lean = eng.lean && lean;
     eng.run(progress);
     if let Some(g) = eng.gave_up {
         return Err(g);
@@ -658,7 +677,7 @@ impl<'a> Engine<'a> {
             next_gen: 0,
             out: IslandOutput::default(),
             scratch: Scratch::default(),
-            lean: true,
+            lean: matches!(phys.method, Method::Adaptive),
             fixed_step,
             tables: {
                 let c = &phys.contacts;
@@ -1183,6 +1202,7 @@ impl<'a> Engine<'a> {
                     members: cl.members.len(),
                     why: GiveUpReason::Unverified,
                     fixed_step: self.fixed_step,
+                    on_fixed_step: !matches!(self.phys.method, Method::Adaptive),
                 });
                 return;
             }
@@ -1199,6 +1219,7 @@ impl<'a> Engine<'a> {
                     members,
                     why,
                     fixed_step: self.fixed_step,
+                    on_fixed_step: !matches!(self.phys.method, Method::Adaptive),
                 });
             }
             return;
@@ -1370,8 +1391,7 @@ impl<'a> Engine<'a> {
                     touching: st.is_some(),
                     contact_time: st.map_or(0.0, |p| p.contact_time),
                     onset: st.map_or(0.0, |p| p.onset),
-                    // The event scheduler runs the adaptive method: no tangential history.
-                    xi: crate::Vec3::zeros(),
+                    xi: st.map_or(Vec3::zeros(), |p| p.xi),
                 }
             })
             .collect();
@@ -1845,6 +1865,7 @@ impl<'a> Engine<'a> {
                         PairState {
                             contact_time: p.contact_time,
                             onset: p.onset,
+                            xi: p.xi,
                         },
                     );
                 }

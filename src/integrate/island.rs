@@ -2396,7 +2396,8 @@ pub fn advance_observed(
     observer: &mut dyn FnMut(f64, &[f64]),
 ) {
     if let Method::Verlet { step } = phys.method {
-        advance_verlet(phys, members, pairs, t0, t1, step, scratch, out, observer);
+        let span = (t0, t1, None);
+        advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
         return;
     }
     advance_adaptive(
@@ -2529,7 +2530,7 @@ pub fn in_contact(members: &[ShotState], pairs: &[IslandPair]) -> bool {
         || pairs.iter().any(|p| p.touching)
 }
 
-/// [`advance_observed`] with the adaptive method, stopping early at the end of the first
+/// [`advance_observed`] (either method), stopping early at the end of the first
 /// accepted step at or after `apart_after` at which no contact is in progress: the
 /// event scheduler (`crate::events`) resolves a collision with it and hands the shots
 /// back to free flight. Returns the time reached (`t1` if contacts last that long).
@@ -2545,6 +2546,15 @@ pub fn advance_until_apart(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) -> f64 {
+    if let Method::Verlet { step } = phys.method {
+        // Free flight (closed form) hands the shots over with no force history: the
+        // step's starting forces are evaluated afresh.
+        for m in members.iter_mut() {
+            m.verlet_acc = None;
+        }
+        let span = (t0, t1, Some(apart_after));
+        return advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
+    }
     advance_adaptive(
         phys,
         members,
@@ -3199,19 +3209,21 @@ fn touch_state(
 }
 
 /// Fixed-step velocity Verlet (kick-drift-kick; velocity-dependent forces see the half-step
-/// velocity, as in LIGGGHTS' nve/sphere). See [`Method::Verlet`].
+/// velocity, as in LIGGGHTS' nve/sphere). See [`Method::Verlet`]. From `t0` to `t1`; with
+/// `apart_after` (the event scheduler's clusters) it stops at the first step end from then
+/// on with no contact in progress, cuts steps at members' clocks (`t_start`) instead of
+/// holding them as fed shots, and returns the time reached.
 #[allow(clippy::too_many_arguments)]
 fn advance_verlet(
     phys: &Physics,
     members: &mut [ShotState],
     pairs: &mut [IslandPair],
-    t0: f64,
-    t1: f64,
+    (t0, t1, apart_after): (f64, f64, Option<f64>),
     step: f64,
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
-) {
+) -> f64 {
     let ctx = Ctx {
         phys,
         onsets_located: false,
@@ -3242,7 +3254,11 @@ fn advance_verlet(
     };
     let mut t = t0;
     // Shots entering in this window (a batch's, placed at the start, never are).
-    let entries = members.iter().any(|m| m.t_start > t0 - step);
+    // The event scheduler's clusters (`apart_after`) start members at their own clocks
+    // (`t_start`): steps end there, and such a member joins at its clock with the
+    // others' positions then. Fed shots are held back (`hold_entries`) on windows only.
+    let clocks = apart_after.is_some();
+    let entries = !clocks && members.iter().any(|m| m.t_start > t0 - step);
     if entries {
         // (A shot entering exactly at `t0` joins the run in this window.)
         hold_entries(members, pairs, (t0 - step, t0), y, &mut work);
@@ -3300,8 +3316,18 @@ fn advance_verlet(
         }
     }
     while t < t1 && members.iter().any(|m| m.is_active()) {
-        let h = if t1 - t <= step * (1.0 + 1e-9) {
-            t1 - t
+        // (A member's clock ahead ends the step there: its `t_start`, with `clocks`.)
+        let stop = if clocks {
+            members
+                .iter()
+                .filter(|m| m.is_active() && m.t_start > t)
+                .map(|m| m.t_start)
+                .fold(t1, f64::min)
+        } else {
+            t1
+        };
+        let h = if stop - t <= step * (1.0 + 1e-9) {
+            stop - t
         } else {
             step
         };
@@ -3318,7 +3344,7 @@ fn advance_verlet(
                 kick_spin(y, acc, n, i, 0.5 * h);
             }
         }
-        let t_new = if h == t1 - t { t1 } else { t + h };
+        let t_new = if h == stop - t { stop } else { t + h };
         for m in members.iter_mut() {
             if moving(m, t) {
                 m.steps += 1;
@@ -3348,7 +3374,8 @@ fn advance_verlet(
             &mut work,
         );
         for (i, m) in members.iter().enumerate() {
-            if moving(m, t) {
+            // (A member joining at `t` on its clock took no part of the step.)
+            if moving(m, t) && !(clocks && m.t_start == t) {
                 for k in 0..3 {
                     y[6 * i + 3 + k] += 0.5 * h * acc[6 * i + 3 + k];
                 }
@@ -3394,6 +3421,9 @@ fn advance_verlet(
         {
             break;
         }
+        if apart_after.is_some_and(|ta| t >= ta) && !in_contact(members, pairs) {
+            break;
+        }
     }
     store_state(members, y);
     for (i, m) in members.iter_mut().enumerate() {
@@ -3407,6 +3437,7 @@ fn advance_verlet(
         });
     }
     out.work.add(&work);
+    t
 }
 
 #[cfg(test)]
