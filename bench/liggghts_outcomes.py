@@ -13,7 +13,8 @@ First, one shot onto the wall at 70 m/s from 0 to 80 degrees, with friction 0.3:
 rebound in each code next to rigid-body impact theory (LIGGGHTS' tangential spring against
 peenflow's default, spring-free tangential law, and against peenflow's tangential spring
 with history, `tangential = "history"` on its fixed-step method at 20 ns, since session
-42). With friction the stream is also run with that law (about 1.5 minutes more).
+42). With friction the stream is also run with that law (about 1.5 minutes more), on
+windows and on the event scheduler (`scheduler = "events"`, since session 43).
 
 In the stream the shots collide with each other: single trajectories are chaotic, and the two codes
 place their shots with different random generators. What is compared is therefore the
@@ -341,6 +342,8 @@ def peenflow_codes(mu):
     runs = [("peenflow", "")]
     if mu > 0:
         runs.append(("peenflow, history law, Verlet 20 ns", HISTORY))
+        # The same on the event scheduler: free flight in closed form (since session 43).
+        runs.append(("peenflow, history law, Verlet 20 ns on events", HISTORY + 'scheduler = "events"\n'))
     return runs
 
 

@@ -8,7 +8,7 @@ batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
-                                   [--dense] [--vacuum] [--verlet [--history]]
+                                   [--dense] [--vacuum] [--verlet [--history] [--events]]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -26,7 +26,9 @@ method (`method = "verlet"`) instead of a tolerance, at a step of 1/20 to 1/100 
 shortest Hertz contact time the scene can have, without turbulence (refused with it),
 and shorter (air scenes 1-3 ms, boxes at most 1 ms) since every shot pays every step.
 With --verlet --history (since session 42): their friction tables with the tangential
-spring with history (`tangential = "history"`) instead of the viscous law.
+spring with history (`tangential = "history"`) instead of the viscous law. With --verlet
+--events (since session 43; with --ballistic or --vacuum): on the event scheduler
+(`scheduler = "events"`).
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -279,9 +281,11 @@ def hertz_time(d_mm, v):
     return 2.943 * (1.25 * (m / 2) / k) ** 0.4 * v ** -0.2
 
 
-def fixed_step(r, text, ballistic):
+def fixed_step(r, text, ballistic, keep_duration=False):
     """`text` on the fixed-step method: the tolerance line replaced by a step of 1/20 to
-    1/100 of the shortest contact time the scene can have, turbulence and long runs cut."""
+    1/100 of the shortest contact time the scene can have, turbulence and long runs cut
+    (unless `keep_duration`: on the event scheduler free flight costs no steps, and a
+    stream in vacuum runs until its last shot lands; the draw is made anyway)."""
     import re
     sizes = [float(x) for x in re.findall(r"(?:diameter_mm|^min_mm) = ([0-9.]+)", text, re.M)]
     if 'grade = "S230"' in text or 'grade = "S330"' in text:
@@ -300,7 +304,8 @@ def fixed_step(r, text, ballistic):
         if line.startswith("tolerance = "):
             line = f'method = "verlet"\nfixed_step_ns = {step_ns:.3f}'
         if line.startswith("duration_ms = "):
-            line = f"duration_ms = {r.choice([0.2, 0.5, 1.0]) if ballistic else r.choice([1, 2, 3])}"
+            cut = f"duration_ms = {r.choice([0.2, 0.5, 1.0]) if ballistic else r.choice([1, 2, 3])}"
+            line = line if keep_duration else cut
         lines.append(line)
     return "\n".join(lines) + "\n"
 
@@ -410,9 +415,15 @@ def main():
                     help="the scenes on the fixed-step method instead of a tolerance")
     ap.add_argument("--history", action="store_true",
                     help="with --verlet: friction with the tangential spring with history")
+    ap.add_argument("--events", action="store_true",
+                    help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
+                         "scenes without air: --ballistic or --vacuum)")
     a = ap.parse_args()
     if a.history and not a.verlet:
         ap.error("--history needs --verlet (the history law runs on the fixed-step method)")
+    if a.events and not (a.verlet and (a.ballistic or a.vacuum)):
+        ap.error("--events needs --verlet and --ballistic or --vacuum (the event scheduler "
+                 "needs scenes without air)")
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
     for k in range(a.count):
@@ -427,10 +438,13 @@ def main():
         else:
             text = scene(r)
         if a.verlet:
-            text = fixed_step(r, text, a.ballistic)
+            text = fixed_step(r, text, a.ballistic, a.events and a.vacuum)
         if a.history:
             # No draw: the scenes are those of --verlet with the same seed.
             text = text.replace("[friction]\n", '[friction]\ntangential = "history"\n')
+        if a.events:
+            # No draw either.
+            text = text.replace('method = "verlet"\n', 'method = "verlet"\nscheduler = "events"\n')
         with open(path, "w") as f:
             f.write(text)
         out = os.path.join(a.out, f"out_{a.seed}_{k}")
