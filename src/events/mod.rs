@@ -1212,8 +1212,13 @@ impl<'a> Engine<'a> {
             // whichever is mid-impact; windows split it into islands of at most
             // `MAX_ISLAND` shots, and beat this scheduler by far once its steps carry more
             // than that on average (a 3,000-shot pile: 217 s against 21 s, session 24).
+            // (On the fixed-step method every shot takes the same step anyway: a large
+            // cluster costs per shot-step what windows would, and they would also step
+            // the shots in free flight. Only an unverified chunk makes it give up.)
             let w = &self.out.work;
-            if let Some(why) = self.pile_watch.judge(w.steps_accepted, w.shot_steps) {
+            if matches!(self.phys.method, Method::Adaptive)
+                && let Some(why) = self.pile_watch.judge(w.steps_accepted, w.shot_steps)
+            {
                 self.gave_up = Some(GaveUp {
                     time_s: s,
                     members,
