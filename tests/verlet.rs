@@ -51,6 +51,15 @@ fn run(scene: &Scene) -> RunOutput {
         .run(&|_| {})
 }
 
+/// [`run`] on a pool of `threads` threads.
+fn run_on(threads: usize, scene: &Scene) -> RunOutput {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| run(scene))
+}
+
 /// Velocity Verlet of the same shots, written from the method's definition: gravity,
 /// Hertz contact with the flat specimen and between shots (the library's force law,
 /// tested against theory in tests/physics_hertz.rs), contacts seen when a step ends
@@ -164,16 +173,7 @@ fn the_fixed_step_method_is_one_global_velocity_verlet() {
 #[test]
 fn the_fixed_step_method_gives_the_same_run_on_one_and_two_threads() {
     let scene = scene("");
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| run(&scene));
-    let two = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap()
-        .install(|| run(&scene));
+    let (one, two) = (run_on(1, &scene), run_on(2, &scene));
     assert_eq!(one.shots, two.shots);
     assert_eq!(one.impacts, two.impacts);
 }
@@ -245,12 +245,7 @@ fn the_history_law_is_thread_independent_and_frictionless_at_zero() {
         if friction_on {
             text = text.replace("[effects]\n", "[effects]\nfriction = true\n");
         }
-        let scene = Scene::from_toml(&text, "history test").unwrap();
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| run(&scene))
+        run_on(threads, &Scene::from_toml(&text, "history test").unwrap())
     };
     let (one, two) = (on(1, history, false), on(2, history, false));
     assert_eq!(one.shots, two.shots);
@@ -325,12 +320,7 @@ fn the_fixed_step_method_on_events_converges_with_the_windows_run() {
     }
     let thread = |n: usize| {
         let text = scene_text("scheduler = \"events\"\n");
-        let scene = Scene::from_toml(&text, "verlet events").unwrap();
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .unwrap()
-            .install(|| run(&scene))
+        run_on(n, &Scene::from_toml(&text, "verlet events").unwrap())
     };
     let (one, two) = (thread(1), thread(2));
     assert_eq!(one.shots, two.shots);
