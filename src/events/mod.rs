@@ -1224,7 +1224,7 @@ impl<'a> Engine<'a> {
                     members,
                     why,
                     fixed_step: self.fixed_step,
-                    on_fixed_step: !matches!(self.phys.method, Method::Adaptive),
+                    on_fixed_step: false,
                 });
             }
             return;
