@@ -297,7 +297,7 @@ fn advance_apart(
         let (a, b) = (&members[p.a as usize], &members[p.b as usize]);
         a.is_active() && b.is_active() && (a.pos - b.pos).norm() < a.body.radius + b.body.radius
     };
-    if !matches!(phys.method, Method::Adaptive)
+    if !phys.method.adaptive_flight()
         || pairs.iter().any(|p| p.touching || overlap(p))
         || members
             .iter()
@@ -1602,7 +1602,7 @@ impl Simulation {
                 let k0 = (self.t / step).round();
                 (((self.t + h) / step).floor().max(k0 + 1.0)) * step
             }
-            Method::Adaptive => self.t + h,
+            Method::Adaptive | Method::Hybrid { .. } => self.t + h,
         };
         t1.min(self.end)
     }
@@ -1933,7 +1933,7 @@ impl Simulation {
                 self.refine_candidates((&idx, &slot), &widest, (&reach, &acc), &mut kicked, t0, t1);
             // With the fixed-step method an island's size costs nothing (every shot
             // takes the same step anyway): islands are not split.
-            if matches!(self.physics.method, Method::Verlet { .. }) {
+            if !self.physics.method.adaptive_flight() {
                 break (idx, candidates);
             }
             let largest = largest_island(&idx, &slot, candidates.iter());
@@ -2071,7 +2071,7 @@ impl Simulation {
             let mut out = IslandOutput::default();
             let split = self.sub_windows
                 && members.len() >= SPLIT_MIN
-                && matches!(phys.method, Method::Adaptive)
+                && phys.method.adaptive_flight()
                 && members.iter().all(|m| m.t_start <= t0);
             let pts = if split {
                 let kick: Vec<bool> = members_idx.iter().map(|&i| self.kicked_buf[i]).collect();
@@ -2131,9 +2131,8 @@ impl Simulation {
         results: Vec<IslandResult>,
         (t1, h0): (f64, f64),
     ) {
-        let sleep = self.sleep
-            && self.snapshot_interval.is_none()
-            && matches!(self.physics.method, Method::Adaptive);
+        let sleep =
+            self.sleep && self.snapshot_interval.is_none() && self.physics.method.adaptive_flight();
         let mut asleep = Vec::new();
         for ((isl, gpairs), result) in islands.iter().zip(results) {
             let (members, pairs, out, pts) = match result {

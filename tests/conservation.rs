@@ -9,7 +9,8 @@
 //! * with restitution 1 and no friction, kinetic energy is kept to the integrator's error
 //!   (measured over the cloud's 387 contacts at tolerance 1e-6: 2.1e-7 relative on the
 //!   event scheduler, 2.9e-7 on windows; asserted 1e-5), and to the step's on velocity
-//!   Verlet at 20 ns (measured 9e-7; asserted 1e-3);
+//!   Verlet at 20 ns and on the hybrid method (adaptive in flight, 20 ns steps in
+//!   contacts) (measured 9e-7; asserted 1e-3);
 //! * with losses (restitution 0.7, or friction 0.3 on an elastic normal law) it never
 //!   grows (measured: 0.68 and 0.77 of the start).
 
@@ -162,11 +163,14 @@ fn conserved_with(
 #[test]
 fn a_colliding_cloud_keeps_momentum_and_elastic_energy_on_every_scheduler() {
     let verlet = Method::Verlet { step: 20e-9 };
+    let hybrid = Method::Hybrid { step: 20e-9 };
     for (label, method, scheduler, allowed) in [
         ("events", Method::Adaptive, Scheduler::Events, 1e-5),
         ("windows", Method::Adaptive, Scheduler::Windows, 1e-5),
         ("verlet", verlet, Scheduler::Windows, 1e-3),
         ("verlet on events", verlet, Scheduler::Events, 1e-3),
+        ("hybrid", hybrid, Scheduler::Windows, 1e-3),
+        ("hybrid on events", hybrid, Scheduler::Events, 1e-3),
     ] {
         let (out, ratio) = conserved(label, 1.0, 0.0, method, scheduler);
         assert!(
@@ -206,8 +210,8 @@ fn a_colliding_cloud_loses_energy_with_losses_and_keeps_its_momenta() {
     }
 }
 
-/// The tangential spring with history (`tangential = "history"`, fixed-step method, on
-/// windows and on the event scheduler): its
+/// The tangential spring with history (`tangential = "history"`, on the fixed-step and
+/// hybrid methods, on windows and on the event scheduler): its
 /// force acts in equal and opposite pairs at the contact point, so momentum and angular
 /// momentum (orbital plus spin) are kept as with the viscous law; it spins the shots and
 /// takes energy out of an elastic normal law (measured: 0.78 of the start, the viscous
@@ -221,9 +225,18 @@ fn the_history_law_keeps_the_clouds_momenta() {
         shot: g,
         wall: g,
     };
-    let verlet = Method::Verlet { step: 20e-9 };
-    for scheduler in [Scheduler::Windows, Scheduler::Events] {
-        let (out, rough) = conserved_with("history", 1.0, (0.3, law), verlet, scheduler);
+    let (verlet, hybrid) = (
+        Method::Verlet { step: 20e-9 },
+        Method::Hybrid { step: 20e-9 },
+    );
+    for (method, scheduler) in [
+        (verlet, Scheduler::Windows),
+        (verlet, Scheduler::Events),
+        (hybrid, Scheduler::Windows),
+        (hybrid, Scheduler::Events),
+    ] {
+        let label = format!("history, {}", method.name());
+        let (out, rough) = conserved_with(&label, 1.0, (0.3, law), method, scheduler);
         assert!(rough < 1.0, "the history law gained energy ({rough})");
         assert!(
             out.shots.iter().any(|s| s.omega.norm() > 100.0),

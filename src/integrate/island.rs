@@ -52,6 +52,42 @@ pub enum Method {
         /// The fixed step, s.
         step: f64,
     },
+    /// The adaptive method in flight, fixed-step velocity Verlet inside contacts: an
+    /// island flies under error control (kept steps, located region crossings and
+    /// onsets) until a contact begins; from the located touch its members take the fixed
+    /// `step` until no contact is left, then fly adaptively again ([`advance_hybrid`]).
+    /// The tolerance holds in flight, the step's accuracy in contacts. What carries the
+    /// history tangential law (a per-contact state the adaptive integrators do not hold)
+    /// onto scenes with air, where every shot in flight would otherwise take the fixed
+    /// step (docs/accuracy.md).
+    Hybrid {
+        /// The fixed step inside contacts, s.
+        step: f64,
+    },
+}
+
+impl Method {
+    /// The name used in scene files and summaries.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Adaptive => "adaptive",
+            Method::Verlet { .. } => "verlet",
+            Method::Hybrid { .. } => "hybrid",
+        }
+    }
+
+    /// Whether shots fly under error control (kept steps, sleepers, split islands).
+    pub fn adaptive_flight(self) -> bool {
+        !matches!(self, Method::Verlet { .. })
+    }
+
+    /// The fixed step, s, of the methods that have one.
+    pub fn fixed_step(self) -> Option<f64> {
+        match self {
+            Method::Adaptive => None,
+            Method::Verlet { step } | Method::Hybrid { step } => Some(step),
+        }
+    }
 }
 
 /// Everything the integrator needs that does not change during a run.
@@ -2395,14 +2431,27 @@ pub fn advance_observed(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) {
-    if let Method::Verlet { step } = phys.method {
-        let span = (t0, t1, None);
-        advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
-        return;
+    match phys.method {
+        Method::Verlet { step } => {
+            let span = VerletSpan {
+                t0,
+                t1,
+                apart_after: None,
+                entries: Entries::Held { since: t0 - step },
+            };
+            advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
+        }
+        Method::Hybrid { step } => {
+            let span = (t0, t1, None);
+            advance_hybrid(
+                phys, members, pairs, span, step, false, scratch, out, observer,
+            );
+        }
+        Method::Adaptive => {
+            let stop = Stop::default();
+            advance_adaptive(phys, members, pairs, t0, t1, stop, scratch, out, observer);
+        }
     }
-    advance_adaptive(
-        phys, members, pairs, t0, t1, None, false, scratch, out, observer,
-    );
 }
 
 /// Advances a lone shot (an island of one, no candidate pair) from `t0` to `t1`, letting
@@ -2425,7 +2474,7 @@ pub fn advance_alone(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) {
-    if !matches!(phys.method, Method::Adaptive) {
+    if !phys.method.adaptive_flight() {
         advance_observed(
             phys,
             std::slice::from_mut(m),
@@ -2453,18 +2502,17 @@ pub fn advance_alone(
         observer(at, &scratch.y);
         t0 = at;
     }
-    advance_adaptive(
-        phys,
-        std::slice::from_mut(m),
-        &mut [],
-        t0,
-        t1,
-        None,
-        true,
-        scratch,
-        out,
-        observer,
-    );
+    let m = std::slice::from_mut(m);
+    if let Method::Hybrid { step } = phys.method {
+        let span = (t0, t1, None);
+        advance_hybrid(phys, m, &mut [], span, step, true, scratch, out, observer);
+        return;
+    }
+    let stop = Stop {
+        alone: true,
+        ..Stop::default()
+    };
+    advance_adaptive(phys, m, &mut [], t0, t1, stop, scratch, out, observer);
 }
 
 /// A lone shot's state length: position and velocity, and the spin with friction.
@@ -2491,7 +2539,7 @@ impl Kept {
     #[inline]
     pub fn read(phys: &Physics, m: &ShotState, t1: f64) -> Option<Self> {
         let step = m.ahead.as_ref()?;
-        if !matches!(phys.method, Method::Adaptive) || t1 >= step.end() {
+        if !phys.method.adaptive_flight() || t1 >= step.end() {
             return None;
         }
         let mut k = Kept {
@@ -2546,27 +2594,103 @@ pub fn advance_until_apart(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) -> f64 {
-    if let Method::Verlet { step } = phys.method {
-        // Free flight (closed form) hands the shots over with no force history: the
-        // step's starting forces are evaluated afresh.
-        for m in members.iter_mut() {
-            m.verlet_acc = None;
-        }
-        let span = (t0, t1, Some(apart_after));
-        return advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
+    // Free flight (closed form) hands the shots over with no force history: the fixed
+    // step's starting forces are evaluated afresh.
+    for m in members.iter_mut() {
+        m.verlet_acc = None;
     }
-    advance_adaptive(
-        phys,
-        members,
-        pairs,
-        t0,
-        t1,
-        Some(apart_after),
-        false,
-        scratch,
-        out,
-        observer,
-    )
+    match phys.method {
+        Method::Verlet { step } => {
+            let span = VerletSpan {
+                t0,
+                t1,
+                apart_after: Some(apart_after),
+                entries: Entries::Clocks,
+            };
+            advance_verlet(phys, members, pairs, span, step, scratch, out, observer)
+        }
+        Method::Hybrid { step } => {
+            let span = (t0, t1, Some(apart_after));
+            advance_hybrid(
+                phys, members, pairs, span, step, false, scratch, out, observer,
+            )
+        }
+        Method::Adaptive => {
+            let stop = Stop {
+                apart_after: Some(apart_after),
+                ..Stop::default()
+            };
+            advance_adaptive(phys, members, pairs, t0, t1, stop, scratch, out, observer)
+        }
+    }
+}
+
+/// Where [`advance_adaptive`] stops short of its window's end.
+#[derive(Debug, Clone, Copy, Default)]
+struct Stop {
+    /// At the end of the first accepted step from then on with no contact in progress
+    /// (the event scheduler's clusters).
+    apart_after: Option<f64>,
+    /// A lone shot, whose last step may run past the window's end (`advance_alone`).
+    alone: bool,
+    /// As soon as a contact is in progress: at a located onset (the end of the step cut
+    /// at the touch), or at once if one is when a step starts ([`advance_hybrid`]).
+    onset: bool,
+}
+
+/// [`Method::Hybrid`]: the members fly under error control ([`advance_adaptive`], which
+/// stops at the first located onset) and step at the fixed `step` while any contact is in
+/// progress ([`advance_verlet`], from the touch until a step ends with none), from `t0` to
+/// `t1`; with `apart_after` (the event scheduler's clusters, whose members keep their own
+/// clocks) it stops at the first step end from then on with no contact in progress, as
+/// [`advance_until_apart`] does. `alone`: a lone shot, whose last adaptive step may run
+/// past `t1` ([`advance_alone`]). Returns the time reached.
+#[allow(clippy::too_many_arguments)]
+fn advance_hybrid(
+    phys: &Physics,
+    members: &mut [ShotState],
+    pairs: &mut [IslandPair],
+    (t0, t1, apart_after): (f64, f64, Option<f64>),
+    step: f64,
+    alone: bool,
+    scratch: &mut Scratch,
+    out: &mut IslandOutput,
+    observer: &mut dyn FnMut(f64, &[f64]),
+) -> f64 {
+    let mut t = t0;
+    while t < t1 && members.iter().any(|m| m.is_active()) {
+        if in_contact(members, pairs) {
+            let span = VerletSpan {
+                t0: t,
+                t1,
+                apart_after: Some(t),
+                entries: if apart_after.is_some() {
+                    Entries::Clocks
+                } else {
+                    Entries::Held { since: t }
+                },
+            };
+            for m in members.iter_mut() {
+                m.ahead = None;
+            }
+            t = advance_verlet(phys, members, pairs, span, step, scratch, out, observer);
+        } else {
+            // The fixed step's last forces belong to the contact just ended.
+            for m in members.iter_mut() {
+                m.verlet_acc = None;
+            }
+            let stop = Stop {
+                apart_after,
+                alone,
+                onset: true,
+            };
+            t = advance_adaptive(phys, members, pairs, t, t1, stop, scratch, out, observer);
+        }
+        if apart_after.is_some_and(|ta| t >= ta) && !in_contact(members, pairs) {
+            break;
+        }
+    }
+    t
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -2576,22 +2700,28 @@ fn advance_adaptive(
     pairs: &mut [IslandPair],
     t0: f64,
     t1: f64,
-    apart_after: Option<f64>,
-    alone: bool,
+    Stop {
+        apart_after,
+        alone,
+        onset: until_onset,
+    }: Stop,
     scratch: &mut Scratch,
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) -> f64 {
+    // (The hybrid method's flight stops at the touch: no contact it integrates carries a
+    // tangential history.)
     assert!(
-        !matches!(
-            phys.contacts.friction,
-            Some(friction::Friction {
-                law: friction::Tangential::History { .. },
-                ..
-            })
-        ),
-        "the history tangential law runs on the fixed-step method only (the scene loader \
-         refuses it with the adaptive one)"
+        until_onset
+            || !matches!(
+                phys.contacts.friction,
+                Some(friction::Friction {
+                    law: friction::Tangential::History { .. },
+                    ..
+                })
+            ),
+        "the history tangential law runs on the fixed-step and hybrid methods only (the \
+         scene loader refuses it with the adaptive one)"
     );
     let ctx = Ctx {
         phys,
@@ -2667,6 +2797,9 @@ fn advance_adaptive(
         }
         if holds {
             hold_entries(members, pairs, (t, t), y, &mut work);
+        }
+        if until_onset && in_contact(members, pairs) {
+            break;
         }
         // Step size: controller proposal, window end, next shot entering, contact caps.
         // A shot sliding on the specimen steps as its error control allows: every event
@@ -2986,6 +3119,9 @@ fn advance_adaptive(
         if apart_after.is_some_and(|ta| t >= ta) && !in_contact(members, pairs) {
             break;
         }
+        if until_onset && in_contact(members, pairs) {
+            break;
+        }
     }
     store_state(members, y);
     for m in members.iter_mut().filter(|m| m.is_active()) {
@@ -3208,17 +3344,42 @@ fn touch_state(
     (s, x0 + v0 * s + 0.5 * a0 * s * s, v0 + a0 * s)
 }
 
+/// The span of an [`advance_verlet`] call.
+#[derive(Debug, Clone, Copy)]
+struct VerletSpan {
+    t0: f64,
+    t1: f64,
+    /// Stop at the first step end from then on with no contact in progress.
+    apart_after: Option<f64>,
+    entries: Entries,
+}
+
+/// How [`advance_verlet`] starts members that enter the run during its span.
+#[derive(Debug, Clone, Copy)]
+enum Entries {
+    /// As fed shots on windows: a shot entering in `(since, t]` starts moving at the end
+    /// `t` of a step, or waits if it would land on a moving one (`hold_entries`).
+    Held { since: f64 },
+    /// The event scheduler's clusters: each member joins at its own clock (`t_start`),
+    /// where a step ends.
+    Clocks,
+}
+
 /// Fixed-step velocity Verlet (kick-drift-kick; velocity-dependent forces see the half-step
 /// velocity, as in LIGGGHTS' nve/sphere). See [`Method::Verlet`]. From `t0` to `t1`; with
-/// `apart_after` (the event scheduler's clusters) it stops at the first step end from then
-/// on with no contact in progress, cuts steps at members' clocks (`t_start`) instead of
-/// holding them as fed shots, and returns the time reached.
+/// `apart_after` (the event scheduler's clusters, the hybrid method's contacts) it stops at
+/// the first step end from then on with no contact in progress. Returns the time reached.
 #[allow(clippy::too_many_arguments)]
 fn advance_verlet(
     phys: &Physics,
     members: &mut [ShotState],
     pairs: &mut [IslandPair],
-    (t0, t1, apart_after): (f64, f64, Option<f64>),
+    VerletSpan {
+        t0,
+        t1,
+        apart_after,
+        entries,
+    }: VerletSpan,
     step: f64,
     scratch: &mut Scratch,
     out: &mut IslandOutput,
@@ -3257,12 +3418,17 @@ fn advance_verlet(
     // The event scheduler's clusters (`apart_after`) start members at their own clocks
     // (`t_start`): steps end there, and such a member joins at its clock with the
     // others' positions then. Fed shots are held back (`hold_entries`) on windows only.
-    let clocks = apart_after.is_some();
-    let entries = !clocks && members.iter().any(|m| m.t_start > t0 - step);
-    if entries {
-        // (A shot entering exactly at `t0` joins the run in this window.)
-        hold_entries(members, pairs, (t0 - step, t0), y, &mut work);
-    }
+    let (clocks, entries) = match entries {
+        Entries::Clocks => (true, false),
+        Entries::Held { since } => {
+            let entries = members.iter().any(|m| m.t_start > since);
+            if entries {
+                // (A shot entering exactly at `t0` joins the run in this window.)
+                hold_entries(members, pairs, (since, t0), y, &mut work);
+            }
+            (false, entries)
+        }
+    };
     set_regions(members, t, y);
     ctx.apply_events(members, pairs, t, y, out);
     // The history law's tangential forces (`Ctx::history`); empty for the viscous law.

@@ -952,22 +952,30 @@ impl SceneFile {
             ("adaptive", Some(_)) => {
                 return Err(c.invalid(
                     "integrator.fixed_step_ns",
-                    "only used with method = \"verlet\"",
+                    "only used with method = \"verlet\" or \"hybrid\"",
                 ));
             }
             ("verlet", Some(ns)) => crate::integrate::island::Method::Verlet {
                 step: c.range("integrator.fixed_step_ns", ns, B::Ex(0.0), B::In(1e6), "ns")? * 1e-9,
             },
-            ("verlet", None) => {
+            ("hybrid", Some(ns)) => crate::integrate::island::Method::Hybrid {
+                step: c.range("integrator.fixed_step_ns", ns, B::Ex(0.0), B::In(1e6), "ns")? * 1e-9,
+            },
+            (m @ ("verlet" | "hybrid"), None) => {
                 return Err(c.invalid(
                     "integrator.method",
-                    "method = \"verlet\" needs fixed_step_ns",
+                    format!(
+                        "method = \"{m}\" needs fixed_step_ns (the step inside contacts: about a \
+                         fiftieth of the shortest Hertz contact time, as in DEM codes)"
+                    ),
                 ));
             }
             (other, _) => {
                 return Err(c.invalid(
                     "integrator.method",
-                    format!("unknown value \"{other}\"; allowed: \"adaptive\", \"verlet\""),
+                    format!(
+                        "unknown value \"{other}\"; allowed: \"adaptive\", \"verlet\", \"hybrid\""
+                    ),
                 ));
             }
         };
@@ -1014,19 +1022,24 @@ impl SceneFile {
         let turbulence_asked = effects.switches[7] == super::effects::Switch::On
             || (effects.switches[7] == super::effects::Switch::Auto
                 && jet.turbulence_intensity > 0.0);
-        if turbulence_asked && matches!(method, crate::integrate::island::Method::Verlet { .. }) {
+        if turbulence_asked && method.fixed_step().is_some() {
             return Err(c.invalid(
                 "integrator.method",
-                "the velocity-Verlet baseline does not renew turbulent eddies: use method = \"adaptive\" \
-                 with jet.turbulence_intensity > 0, or set effects.turbulent_dispersion = false",
+                format!(
+                    "method = \"{}\" does not renew turbulent eddies in its fixed steps: use \
+                     method = \"adaptive\" with jet.turbulence_intensity > 0, or set \
+                     effects.turbulent_dispersion = false",
+                    method.name()
+                ),
             ));
         }
         if friction.history && matches!(method, crate::integrate::island::Method::Adaptive) {
             return Err(c.invalid(
                 "friction.tangential",
-                "\"history\" (the tangential spring) runs on the fixed-step method only: set \
-                 [integrator] method = \"verlet\" with fixed_step_ns (a fiftieth of the contact \
-                 time, as LIGGGHTS steps), or use tangential = \"viscous\"",
+                "\"history\" (the tangential spring) needs a fixed step inside contacts: set \
+                 [integrator] method = \"hybrid\" (adaptive in flight; the fast choice with air) \
+                 or \"verlet\" (every step fixed, as LIGGGHTS), with fixed_step_ns (a fiftieth of \
+                 the contact time, as LIGGGHTS steps), or use tangential = \"viscous\"",
             ));
         }
         let dm = &f.domain;

@@ -121,7 +121,8 @@ pub fn stream_without_contact(
 }
 
 /// A colliding nozzle stream run over `seeds` with two settings (`run(scene, false)`,
-/// then `run(scene, true)`), in which only which shots share a clock differs: checks
+/// then `run(scene, true)`) that should give the same outcomes (only which shots share a
+/// clock differs, or how contacts are stepped): checks
 /// that the first hits' distributions agree within their noise (mean normal speed
 /// within 2 %, mean radius from the jet's axis, x = y = 0, within 10 %, hit fraction
 /// within 0.02; the seed-to-seed spread of the mean speed is about 0.5 %) and that the
@@ -157,6 +158,11 @@ pub fn same_hits_for_fewer_steps(
     let mean = |x: [f64; 2], k: usize| x[k] / counts[k] as f64;
     let (v0, v1) = (mean(speeds, 0), mean(speeds, 1));
     let (r0, r1) = (mean(radii, 0), mean(radii, 1));
+    println!(
+        "mean normal speed {v0:.3} / {v1:.3} m/s, mean radius {r0:.5} / {r1:.5} m, hit fraction \
+         {:.3} / {:.3}, shot-steps {} / {}",
+        hit[0], hit[1], steps[0], steps[1]
+    );
     assert!(
         (v1 / v0 - 1.0).abs() < 0.02,
         "mean normal speed {v0} / {v1} m/s"
