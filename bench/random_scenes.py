@@ -8,7 +8,8 @@ batch too full to place) are counted apart: they are the loader doing its job.
 
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
-                                   [--dense] [--vacuum] [--verlet [--history] [--events]]
+                                   [--dense] [--vacuum] [--verlet [--history] [--events]
+                                   [--hybrid]]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -28,7 +29,9 @@ and shorter (air scenes 1-3 ms, boxes at most 1 ms) since every shot pays every 
 With --verlet --history (since session 42): their friction tables with the tangential
 spring with history (`tangential = "history"`) instead of the viscous law. With --verlet
 --events (since session 43; with --ballistic or --vacuum): on the event scheduler
-(`scheduler = "events"`).
+(`scheduler = "events"`). With --verlet --hybrid (since session 44): on the hybrid method
+(`method = "hybrid"`: adaptive in flight at the scene's tolerance, the drawn step inside
+contacts) at the scenes' full duration.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -281,11 +284,12 @@ def hertz_time(d_mm, v):
     return 2.943 * (1.25 * (m / 2) / k) ** 0.4 * v ** -0.2
 
 
-def fixed_step(r, text, ballistic, keep_duration=False):
+def fixed_step(r, text, ballistic, keep_duration=False, hybrid=False):
     """`text` on the fixed-step method: the tolerance line replaced by a step of 1/20 to
     1/100 of the shortest contact time the scene can have, turbulence and long runs cut
     (unless `keep_duration`: on the event scheduler free flight costs no steps, and a
-    stream in vacuum runs until its last shot lands; the draw is made anyway)."""
+    stream in vacuum runs until its last shot lands; the draw is made anyway). `hybrid`:
+    on the hybrid method, the tolerance kept for its flight, and the duration too."""
     import re
     sizes = [float(x) for x in re.findall(r"(?:diameter_mm|^min_mm) = ([0-9.]+)", text, re.M)]
     if 'grade = "S230"' in text or 'grade = "S330"' in text:
@@ -302,10 +306,11 @@ def fixed_step(r, text, ballistic, keep_duration=False):
         if line.startswith("turbulence_intensity") or line.startswith("contact_steps"):
             continue
         if line.startswith("tolerance = "):
-            line = f'method = "verlet"\nfixed_step_ns = {step_ns:.3f}'
+            method = f'method = "{"hybrid" if hybrid else "verlet"}"\nfixed_step_ns = {step_ns:.3f}'
+            line = f"{line}\n{method}" if hybrid else method
         if line.startswith("duration_ms = "):
             cut = f"duration_ms = {r.choice([0.2, 0.5, 1.0]) if ballistic else r.choice([1, 2, 3])}"
-            line = line if keep_duration else cut
+            line = line if keep_duration or hybrid else cut
         lines.append(line)
     return "\n".join(lines) + "\n"
 
@@ -415,12 +420,17 @@ def main():
                     help="the scenes on the fixed-step method instead of a tolerance")
     ap.add_argument("--history", action="store_true",
                     help="with --verlet: friction with the tangential spring with history")
+    ap.add_argument("--hybrid", action="store_true",
+                    help="with --verlet: on the hybrid method (adaptive in flight, the step "
+                         "inside contacts), at full duration")
     ap.add_argument("--events", action="store_true",
                     help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
                          "scenes without air: --ballistic or --vacuum)")
     a = ap.parse_args()
     if a.history and not a.verlet:
         ap.error("--history needs --verlet (the history law runs on the fixed-step method)")
+    if a.hybrid and not a.verlet:
+        ap.error("--hybrid needs --verlet (it draws the same step)")
     if a.events and not (a.verlet and (a.ballistic or a.vacuum)):
         ap.error("--events needs --verlet and --ballistic or --vacuum (the event scheduler "
                  "needs scenes without air)")
@@ -438,13 +448,14 @@ def main():
         else:
             text = scene(r)
         if a.verlet:
-            text = fixed_step(r, text, a.ballistic, a.events and a.vacuum)
+            text = fixed_step(r, text, a.ballistic, a.events and a.vacuum, a.hybrid)
         if a.history:
             # No draw: the scenes are those of --verlet with the same seed.
             text = text.replace("[friction]\n", '[friction]\ntangential = "history"\n')
         if a.events:
             # No draw either.
-            text = text.replace('method = "verlet"\n', 'method = "verlet"\nscheduler = "events"\n')
+            for m in ("verlet", "hybrid"):
+                text = text.replace(f'method = "{m}"\n', f'method = "{m}"\nscheduler = "events"\n')
         with open(path, "w") as f:
             f.write(text)
         out = os.path.join(a.out, f"out_{a.seed}_{k}")

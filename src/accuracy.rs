@@ -2,7 +2,8 @@
 //!
 //! Runs a scene over a ladder of settings, the integrator tolerance of the adaptive
 //! method and, for contrast, the fixed step of a velocity-Verlet baseline (how classic DEM
-//! codes integrate), and measures against a converged reference run (tolerance 1e-10) the
+//! codes integrate) and of the hybrid method (adaptive in flight at the default
+//! tolerance, that step inside contacts), and measures against a converged reference run (tolerance 1e-10) the
 //! errors of what FE users consume: impact speed, impact position, impact time, hit
 //! fraction; with wall time and step counts.
 //!
@@ -27,6 +28,8 @@ pub enum Setting {
     Tolerance(f64),
     /// Velocity Verlet at this fixed step, s.
     Verlet(f64),
+    /// The hybrid method (the scene's tolerance in flight) with this step in contacts, s.
+    Hybrid(f64),
 }
 
 impl Setting {
@@ -35,6 +38,7 @@ impl Setting {
         match self {
             Setting::Tolerance(_) => "adaptive",
             Setting::Verlet(_) => "verlet",
+            Setting::Hybrid(_) => "hybrid",
         }
     }
 
@@ -43,6 +47,7 @@ impl Setting {
         match self {
             Setting::Tolerance(t) => format!("tolerance {t:e}"),
             Setting::Verlet(h) => format!("verlet step {} ns", h * 1e9),
+            Setting::Hybrid(h) => format!("hybrid, step {} ns in contacts", h * 1e9),
         }
     }
 
@@ -53,6 +58,14 @@ impl Setting {
                 scene.integrator.method = Method::Adaptive;
             }
             Setting::Verlet(h) => scene.integrator.method = Method::Verlet { step: h },
+            Setting::Hybrid(h) => scene.integrator.method = Method::Hybrid { step: h },
+        }
+    }
+
+    /// The tolerance, or the fixed step in s.
+    pub fn value(&self) -> f64 {
+        match *self {
+            Setting::Tolerance(v) | Setting::Verlet(v) | Setting::Hybrid(v) => v,
         }
     }
 }
@@ -70,7 +83,7 @@ pub enum Mode {
 /// One row of accuracy.csv.
 #[derive(Debug, Clone, Serialize)]
 pub struct Row {
-    /// "adaptive" or "verlet".
+    /// "adaptive", "verlet" or "hybrid".
     pub method: &'static str,
     /// Tolerance, or fixed step in s.
     pub setting: f64,
@@ -271,6 +284,27 @@ fn compare(
     }
 }
 
+/// The ladder for `scene`: [`ladder`], without the fixed-step rows when the scene has
+/// turbulent dispersion (those methods do not renew eddies; the scene loader refuses them
+/// with it). `Err` names what the study cannot run: a scene on the history tangential
+/// law, which the adaptive method (the reference's) cannot carry.
+pub fn ladder_for(scene: &Scene) -> Result<Vec<Setting>, String> {
+    if scene.friction.history {
+        return Err(format!(
+            "{}: friction.tangential = \"history\": the study's reference run is the adaptive \
+             method at tolerance 1e-10, which cannot carry the tangential spring; study the \
+             scene with tangential = \"viscous\" (the methods' costs are alike), or compare \
+             fixed steps of method = \"hybrid\" yourself",
+            scene.path
+        ));
+    }
+    let mut v = ladder();
+    if scene.effects().turbulent_dispersion {
+        v.retain(|s| matches!(s, Setting::Tolerance(_)));
+    }
+    Ok(v)
+}
+
 /// The default ladder.
 pub fn ladder() -> Vec<Setting> {
     let mut v: Vec<Setting> = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
@@ -281,6 +315,11 @@ pub fn ladder() -> Vec<Setting> {
         [100e-9, 50e-9, 20e-9, 10e-9]
             .iter()
             .map(|&h| Setting::Verlet(h)),
+    );
+    v.extend(
+        [100e-9, 50e-9, 20e-9, 10e-9, 5e-9]
+            .iter()
+            .map(|&h| Setting::Hybrid(h)),
     );
     v
 }
@@ -314,10 +353,7 @@ pub fn study(
         let (es, ep, et, eh, w1, pe, err) = compare(mode, &reference, &o, diameter);
         rows.push(Row {
             method: st.method(),
-            setting: match st {
-                Setting::Tolerance(t) => t,
-                Setting::Verlet(h) => h,
-            },
+            setting: st.value(),
             wall_time_s: o.wall,
             shot_steps: o.shot_steps,
             rhs_evaluations: o.rhs,
@@ -378,10 +414,10 @@ impl Study {
             "error"
         );
         for r in &self.rows {
-            let setting = if r.method == "verlet" {
-                format!("{} ns", r.setting * 1e9)
-            } else {
+            let setting = if r.method == "adaptive" {
                 format!("{:e}", r.setting)
+            } else {
+                format!("{} ns", r.setting * 1e9)
             };
             let _ = writeln!(
                 s,
@@ -411,13 +447,13 @@ impl Study {
 
     /// Curves of error against wall time, one per method.
     pub fn series(&self) -> Vec<crate::plot::Series> {
-        ["adaptive", "verlet"]
+        ["adaptive", "verlet", "hybrid"]
             .iter()
             .map(|m| crate::plot::Series {
-                name: if *m == "adaptive" {
-                    "adaptive (tolerance ladder)".into()
-                } else {
-                    "velocity Verlet (fixed step)".into()
+                name: match *m {
+                    "adaptive" => "adaptive (tolerance ladder)".into(),
+                    "verlet" => "velocity Verlet (fixed step)".into(),
+                    _ => "hybrid (fixed step in contacts)".into(),
                 },
                 points: self
                     .rows

@@ -1,5 +1,5 @@
 //! `peenflow accuracy` on the single-shot scene: the error falls as the tolerance tightens
-//! (and as the Verlet step shrinks), and the `--target 0.1%` recommendation meets its
+//! (and as the Verlet step shrinks; the hybrid method's is the adaptive one's), and the `--target 0.1%` recommendation meets its
 //! target when checked against an independent reference (the lone shot's impact speed
 //! from a tolerance-1e-10 run, itself within 1e-7 of the fixed-step RK4 reference of
 //! tests/physics_single_shot.rs).
@@ -49,6 +49,12 @@ fn error_falls_as_the_tolerance_tightens() {
     };
     assert!(steps("adaptive", 1e-6) * 100 < steps("verlet", 20e-9));
     assert!(err("adaptive", 1e-6) < err("verlet", 10e-9));
+    // The hybrid method flies as the adaptive one at the scene's tolerance (the default)
+    // and takes its step only in contact: the shot's one impact is the adaptive
+    // method's, whatever the step.
+    for h in [100e-9, 50e-9, 20e-9, 10e-9, 5e-9] {
+        assert_eq!(err("hybrid", h), err("adaptive", 1e-6), "{} ns", h * 1e9);
+    }
 }
 
 #[test]
@@ -94,6 +100,8 @@ fn target_recommendation_meets_its_target() {
         .unwrap();
     let setting = if line.contains("[integrator] tolerance = ") {
         Setting::Tolerance(value)
+    } else if line.contains("method = \"hybrid\"") {
+        Setting::Hybrid(value * 1e-9)
     } else {
         assert!(line.contains("fixed_step_ns = "), "{line}");
         Setting::Verlet(value * 1e-9)
@@ -104,6 +112,9 @@ fn target_recommendation_meets_its_target() {
             Setting::Tolerance(t) => s.integrator.tolerance = t,
             Setting::Verlet(h) => {
                 s.integrator.method = peenflow::integrate::island::Method::Verlet { step: h }
+            }
+            Setting::Hybrid(h) => {
+                s.integrator.method = peenflow::integrate::island::Method::Hybrid { step: h }
             }
         }
         Simulation::new(&s, &s.effects())

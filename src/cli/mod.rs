@@ -306,9 +306,9 @@ fn accuracy(a: AccuracyArgs) -> Result<()> {
     if a.seeds == 0 || a.seeds > 1000 {
         bail!("--seeds {}: allowed 1 to 1000", a.seeds);
     }
+    let settings = crate::accuracy::ladder_for(&scene).map_err(|e| anyhow::anyhow!(e))?;
     set_threads(a.threads)?;
     output::prepare_dir(&a.out, a.force)?;
-    let settings = crate::accuracy::ladder();
     let bar = if std::io::stderr().is_terminal() {
         ProgressBar::with_draw_target(Some(settings.len() as u64), ProgressDrawTarget::stderr())
     } else {
@@ -336,13 +336,14 @@ fn accuracy(a: AccuracyArgs) -> Result<()> {
             Some(r) => println!(
                 "recommended for a {}% target: [integrator] {} ({} s, error {:.2e})",
                 t * 100.0,
-                if r.method == "verlet" {
+                if r.method == "adaptive" {
+                    format!("tolerance = {:e}", r.setting)
+                } else {
                     format!(
-                        "method = \"verlet\", fixed_step_ns = {}",
+                        "method = \"{}\", fixed_step_ns = {}",
+                        r.method,
                         (r.setting * 1e15).round() / 1e6
                     )
-                } else {
-                    format!("tolerance = {:e}", r.setting)
                 },
                 if r.wall_time_s >= 0.01 {
                     format!("{:.3}", r.wall_time_s)

@@ -55,7 +55,7 @@ pub enum Method {
     /// The adaptive method in flight, fixed-step velocity Verlet inside contacts: an
     /// island flies under error control (kept steps, located region crossings and
     /// onsets) until a contact begins; from the located touch its members take the fixed
-    /// `step` until no contact is left, then fly adaptively again ([`advance_hybrid`]).
+    /// `step` until no contact is left, then fly adaptively again (`advance_hybrid`).
     /// The tolerance holds in flight, the step's accuracy in contacts. What carries the
     /// history tangential law (a per-contact state the adaptive integrators do not hold)
     /// onto scenes with air, where every shot in flight would otherwise take the fixed

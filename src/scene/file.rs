@@ -407,7 +407,7 @@ pub struct FrictionFile {
     pub shot_nozzle: f64,
     /// The tangential law: `"viscous"` (Coulomb with viscous stick, no history; the
     /// default) or `"history"` (tangential spring with history, as LIGGGHTS' `tangential
-    /// history`; with `method = "verlet"`).
+    /// history`; with `method = "hybrid"` or `"verlet"`).
     pub tangential: String,
 }
 
@@ -432,9 +432,10 @@ pub struct IntegratorFile {
     pub contact_steps: f64,
     /// Largest step, ms.
     pub max_step_ms: f64,
-    /// `"adaptive"` (error-controlled, default) or `"verlet"` (fixed step, a baseline).
+    /// `"adaptive"` (error-controlled, default), `"verlet"` (fixed step, a baseline) or
+    /// `"hybrid"` (adaptive in flight, the fixed step inside contacts).
     pub method: String,
-    /// The fixed step of `method = "verlet"`, ns.
+    /// The fixed step of `method = "verlet"` and `"hybrid"`, ns.
     pub fixed_step_ns: Option<f64>,
     /// `"auto"` (default), `"windows"` or `"events"`: how shots are scheduled.
     pub scheduler: String,
