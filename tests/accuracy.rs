@@ -142,3 +142,24 @@ fn target_recommendation_meets_its_target() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no setting of the ladder meets"));
 }
+
+/// A scene on the history tangential law cannot be studied (the reference run is the
+/// adaptive method's, which cannot carry it): one message naming the file and the key,
+/// exit 2, and no output directory.
+#[test]
+fn a_history_law_scene_is_refused_with_a_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("examples/friction_history.toml");
+    let o = peenflow(
+        &["accuracy", scene.to_str().unwrap(), "--out", "acc"],
+        tmp.path(),
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("friction_history.toml: friction.tangential = \"history\""),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!tmp.path().join("acc").exists());
+}

@@ -4,25 +4,11 @@
 
 mod common;
 
+use common::{run_scene as run, run_scene_on as run_on};
 use peenflow::integrate::island::Method;
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};
 use peenflow::state::ShotState;
-
-fn run(scene: &Scene) -> RunOutput {
-    Simulation::new(scene, &scene.effects())
-        .unwrap()
-        .run(&|_| {})
-}
-
-/// [`run`] on a pool of `threads` threads.
-fn run_on(threads: usize, scene: &Scene) -> RunOutput {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| run(scene))
-}
 
 fn sorted(out: &RunOutput) -> Vec<ShotState> {
     let mut shots = out.shots.clone();

@@ -5,10 +5,13 @@
 //! velocity Verlet written here, on a scene the window scheduler cuts into many windows
 //! and islands.
 
+mod common;
+
+use common::{run_scene as run, run_scene_on as run_on};
 use peenflow::Vec3;
 use peenflow::contact::{HertzLaw, PairContact, effective_mass};
 use peenflow::scene::Scene;
-use peenflow::sim::{RunOutput, Simulation};
+use peenflow::sim::Simulation;
 
 const STEP_NS: f64 = 20.0;
 const DURATION_MS: f64 = 0.1;
@@ -43,21 +46,6 @@ fn scene_text(extra: &str) -> String {
          [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n"
     );
     text
-}
-
-fn run(scene: &Scene) -> RunOutput {
-    Simulation::new(scene, &scene.effects())
-        .unwrap()
-        .run(&|_| {})
-}
-
-/// [`run`] on a pool of `threads` threads.
-fn run_on(threads: usize, scene: &Scene) -> RunOutput {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| run(scene))
 }
 
 /// Velocity Verlet of the same shots, written from the method's definition: gravity,

@@ -220,3 +220,19 @@ pub fn same_states_for_fewer_steps(
     );
     (dx, dv)
 }
+
+/// Runs `scene` with its own effects.
+pub fn run_scene(scene: &peenflow::scene::Scene) -> peenflow::sim::RunOutput {
+    peenflow::sim::Simulation::new(scene, &scene.effects())
+        .unwrap()
+        .run(&|_| {})
+}
+
+/// [`run_scene`] on a pool of `threads` threads.
+pub fn run_scene_on(threads: usize, scene: &peenflow::scene::Scene) -> peenflow::sim::RunOutput {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| run_scene(scene))
+}
