@@ -115,7 +115,8 @@ pub struct ShotState {
     /// half-kick of its next step. Carried across windows, so that a window's start does
     /// not re-evaluate velocity-dependent forces (contact damping, drag, friction) with the
     /// full-step velocity: the steps are those of one global velocity Verlet, however the
-    /// run is cut into windows.
+    /// run is cut into windows. (The hybrid method carries it across a window end only
+    /// while a contact lasts; each adaptive stretch clears it.)
     pub verlet_acc: Option<(Vec3, Vec3)>,
 }
 
