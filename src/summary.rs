@@ -154,6 +154,19 @@ pub struct ContactReport {
     pub shot_wall: u64,
 }
 
+/// The integrator the scene asked for.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IntegratorReport {
+    /// `adaptive`, `verlet` or `hybrid`.
+    pub method: String,
+    /// Relative error tolerance per step (the adaptive method's, and the hybrid method's
+    /// in flight).
+    pub tolerance: f64,
+    /// The fixed step, ns (`verlet`; `hybrid` inside contacts).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fixed_step_ns: Option<f64>,
+}
+
 /// Everything summary.json holds.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
@@ -211,6 +224,8 @@ pub struct Summary {
     pub contacts: ContactReport,
     /// Work counters per stage and effect.
     pub work: WorkCounters,
+    /// The integration method and its settings.
+    pub integrator: IntegratorReport,
     /// Scheduler that ran: `windows`, `events` (ballistic scenes) or `independent` (no
     /// shot-shot contact).
     pub scheduler: String,
@@ -338,6 +353,15 @@ impl SummaryBuilder {
                 shot_wall: self.wall_contacts,
             },
             work: run.work,
+            integrator: IntegratorReport {
+                method: scene.integrator.method.name().into(),
+                tolerance: scene.integrator.tolerance,
+                fixed_step_ns: scene
+                    .integrator
+                    .method
+                    .fixed_step()
+                    .map(|h| (h * 1e15).round() / 1e6),
+            },
             scheduler: run.scheduler.to_string(),
             scheduler_note: run.scheduler_note.clone(),
             windows: run.windows,
@@ -462,6 +486,19 @@ impl Summary {
             self.wall_time_s,
             self.threads
         );
+        let it = &self.integrator;
+        if let Some(ns) = it.fixed_step_ns {
+            let _ = writeln!(
+                s,
+                "integrator: method = \"{}\", {ns} ns steps{}",
+                it.method,
+                if it.method == "hybrid" {
+                    format!(" in contacts, tolerance {:e} in flight", it.tolerance)
+                } else {
+                    String::new()
+                }
+            );
+        }
         if self.work.slides > 0 {
             let _ = writeln!(
                 s,

@@ -219,3 +219,32 @@ fn a_nozzle_stream_with_the_history_law_is_thread_independent() {
         "nothing spun"
     );
 }
+
+/// examples/friction_history.toml runs on the hybrid method: summary.json records the
+/// method and its settings, and the printed summary says it.
+#[test]
+fn the_summary_records_the_method() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::root().join("examples/friction_history.toml");
+    let o = common::peenflow(
+        &["run", scene.to_str().unwrap(), "--out", "out"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let printed = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        printed.contains(
+            "integrator: method = \"hybrid\", 20 ns steps in contacts, tolerance 1e-6 in flight"
+        ),
+        "{printed}"
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let it = &summary["integrator"];
+    assert_eq!(it["method"], "hybrid");
+    assert_eq!(it["tolerance"], 1e-6);
+    assert_eq!(it["fixed_step_ns"], 20.0);
+    assert!(summary["impacts"].as_u64().unwrap() > 20);
+}
