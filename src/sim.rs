@@ -1106,9 +1106,9 @@ impl Simulation {
     }
 
     /// Chooses the scheduler (default [`Scheduler::Auto`]: events for ballistic scenes
-    /// whose shots do not start in contact on the adaptive method, else windows; the
-    /// fixed-step method takes events only when asked, as LIGGGHTS' manner is its
-    /// default). [`Scheduler::Events`] on
+    /// whose shots do not start in contact on the adaptive and hybrid methods, else
+    /// windows; the fixed-step method takes events only when asked, as LIGGGHTS' manner
+    /// is its default). [`Scheduler::Events`] on
     /// physics it does not suit, or with snapshots, falls back to windows (scene files
     /// asking for it on unsuitable physics are refused by [`Simulation::new`]).
     pub fn with_scheduler(mut self, scheduler: Scheduler) -> Self {
@@ -1188,7 +1188,7 @@ impl Simulation {
             && crate::events::unsuitable(&self.physics).is_none()
             && (self.scheduler == Scheduler::Events
                 || (self.scheduler == Scheduler::Auto
-                    && matches!(self.physics.method, Method::Adaptive)
+                    && self.physics.method.adaptive_flight()
                     && !self.starts_packed()))
         {
             "events"

@@ -248,3 +248,16 @@ fn the_summary_records_the_method() {
     assert_eq!(it["fixed_step_ns"], 20.0);
     assert!(summary["impacts"].as_u64().unwrap() > 20);
 }
+
+/// `auto` runs the hybrid method as the adaptive one: on the event scheduler for a
+/// ballistic scene (the column), on windows with air (a nozzle stream).
+#[test]
+fn auto_schedules_the_hybrid_method_as_the_adaptive_one() {
+    let scene = column("method = \"hybrid\"\nfixed_step_ns = 20\n", "");
+    let sim = Simulation::new(&scene, &scene.effects()).unwrap();
+    assert_eq!(sim.scheduler_in_use(), "events");
+    let mut stream = common::nozzle_stream("hybrid auto", 40_000.0, (1.0, 0.0), 1);
+    stream.integrator.method = Method::Hybrid { step: 20e-9 };
+    let sim = Simulation::new(&stream, &stream.effects()).unwrap();
+    assert_eq!(sim.scheduler_in_use(), "windows");
+}

@@ -32,8 +32,8 @@
 //! "history"`, on its fixed-step method at LIGGGHTS' step) is LIGGGHTS' law: every
 //! quantity within 1.7 % on these two seeds (spin energy -0.3 %; four seeds: kinetic
 //! energy -0.6 %, spin energy +0.8 %), asserted 3 % and 5 % on the spin energy. On the
-//! hybrid method (adaptive in flight, 20 ns steps in contacts) within 2.1 % (spin energy
-//! +1.4 %), asserted the same. Trajectories are
+//! hybrid method (adaptive in flight, 20 ns steps in contacts; `auto` runs it on the
+//! event scheduler here) within 2.1 % (spin energy +0.8 %), asserted the same. Trajectories are
 //! chaotic, so any change of the code moves these figures by about one seed's spread;
 //! every tolerance is at least three times the spread of a two-seed difference.
 //! The law itself is checked collision by collision: `history_law_is_liggghts_tangential_history`
