@@ -306,7 +306,7 @@ fn accuracy(a: AccuracyArgs) -> Result<()> {
     if a.seeds == 0 || a.seeds > 1000 {
         bail!("--seeds {}: allowed 1 to 1000", a.seeds);
     }
-    let settings = crate::accuracy::ladder_for(&scene).map_err(|e| anyhow::anyhow!(e))?;
+    let settings = crate::accuracy::ladder_for(&scene);
     set_threads(a.threads)?;
     output::prepare_dir(&a.out, a.force)?;
     let bar = if std::io::stderr().is_terminal() {
