@@ -468,7 +468,7 @@ impl Study {
         w.into_inner().expect("BUG: in-memory writer")
     }
 
-    /// Curves of error against wall time, one per method.
+    /// Curves of error against wall time, one per method the ladder ran.
     pub fn series(&self) -> Vec<crate::plot::Series> {
         ["adaptive", "verlet", "hybrid"]
             .iter()
@@ -485,6 +485,7 @@ impl Study {
                     .map(|r| (r.wall_time_s, r.error.max(1e-12)))
                     .collect(),
             })
+            .filter(|s| !s.points.is_empty())
             .collect()
     }
 }
