@@ -74,6 +74,41 @@ fn short(v: f64) -> String {
     }
 }
 
+/// A log axis' label: as [`short`], but an axis that reaches below 1e-2 writes all its
+/// labels under 1 as `5e-3`, `1e-2`, `2e-2` rather than a mix such as `5e-3`, `0.01`.
+fn log_label(v: f64, lo: f64) -> String {
+    if lo < 1e-2 && v.abs() < 1.0 {
+        format!("{v:.0e}")
+    } else {
+        short(v)
+    }
+}
+
+/// Labelled and light ticks of a log axis over `[lo, hi]` (`0 < lo < hi`): labels on
+/// the decades, or on 1 and 3, or 1, 2 and 5, or every digit of each decade, whichever
+/// comes first with four labels or more; light lines on every digit of every decade. (plotters' own log ticks crowd an
+/// axis spanning about one decade: overlapping labels and minor lines packed together.)
+fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let within = |digits: &[f64]| -> Vec<f64> {
+        (k0..=k1)
+            .flat_map(|k| digits.iter().map(move |d| d * 10f64.powi(k)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let all = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
+    let bold = [&[1.0][..], &[1.0, 3.0], &[1.0, 2.0, 5.0], &all]
+        .into_iter()
+        .map(|d| within(d))
+        .find(|b| b.len() >= 4)
+        .unwrap_or_else(|| within(&all));
+    let light = within(&all)
+        .into_iter()
+        .filter(|v| !bold.contains(v))
+        .collect();
+    (bold, light)
+}
+
 fn draw_lines<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
@@ -113,12 +148,19 @@ where
     if log {
         let (x0, x1) = (x0 / 1.5, x1 * 1.5);
         let (y0, y1) = (y0 / 2.0, y1 * 2.0);
-        let mut c = chart.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+        let axis = |lo: f64, hi: f64| {
+            let (bold, light) = log_ticks(lo, hi);
+            (lo..hi)
+                .log_scale()
+                .with_key_points(bold)
+                .with_light_points(light)
+        };
+        let mut c = chart.build_cartesian_2d(axis(x0, x1), axis(y0, y1))?;
         c.configure_mesh()
             .x_desc(xl)
             .y_desc(yl)
-            .x_label_formatter(&|v| short(*v))
-            .y_label_formatter(&|v| short(*v))
+            .x_label_formatter(&|v| log_label(*v, x0))
+            .y_label_formatter(&|v| log_label(*v, y0))
             .label_style(("sans-serif", 15))
             .draw()?;
         for (k, s) in series.iter().enumerate() {
@@ -475,6 +517,40 @@ mod tests {
 
     fn corner(curves: &[Vec<(f64, f64)>]) -> String {
         format!("{:?}", legend_corner(curves))
+    }
+
+    #[test]
+    fn log_axes_get_a_few_readable_labels() {
+        // Many decades: the decades only.
+        let (bold, light) = log_ticks(3e-9, 2e-2);
+        assert_eq!(bold.len(), 7);
+        assert!(
+            bold.iter()
+                .all(|v| (v.log10() - v.log10().round()).abs() < 1e-12)
+        );
+        assert!(light.len() > 40 && light.iter().all(|v| !bold.contains(v)));
+        // Three and a half decades (a single shot's wall times): 1 and 3.
+        let (bold, _) = log_ticks(2e-5, 8e-2);
+        let want = [3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2];
+        assert_eq!(bold.len(), want.len());
+        assert!(
+            bold.iter()
+                .zip(want)
+                .all(|(a, b)| (a / b - 1.0).abs() < 1e-12)
+        );
+        // About one decade (the history-law study's errors): 1, 2 and 5 of each decade.
+        let (bold, _) = log_ticks(4e-4, 2.5e-2);
+        let want = [5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2];
+        assert_eq!(bold.len(), want.len());
+        assert!(
+            bold.iter()
+                .zip(want)
+                .all(|(a, b)| (a / b - 1.0).abs() < 1e-12)
+        );
+        // Less than a factor 4: every digit.
+        let (bold, light) = log_ticks(1.5e-3, 5.5e-3);
+        assert_eq!(bold.len(), 4);
+        assert!(light.is_empty());
     }
 
     #[test]
