@@ -99,7 +99,7 @@ fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     let all = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
     let bold = [&[1.0][..], &[1.0, 3.0], &[1.0, 2.0, 5.0], &all]
         .into_iter()
-        .map(|d| within(d))
+        .map(&within)
         .find(|b| b.len() >= 4)
         .unwrap_or_else(|| within(&all));
     let light = within(&all)
