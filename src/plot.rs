@@ -109,6 +109,25 @@ fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
     (bold, light)
 }
 
+/// A curve's point markers: none on a dense curve (a profile of many points), where they
+/// would merge into a thick band.
+fn markers(
+    points: &[(f64, f64)],
+    color: RGBColor,
+) -> impl Iterator<Item = Circle<(f64, f64), i32>> + '_ {
+    let shown = if points.len() <= MARKED_POINTS {
+        points
+    } else {
+        &[]
+    };
+    shown
+        .iter()
+        .map(move |&q| Circle::new(q, 4, color.filled()))
+}
+
+/// Most points a curve may have and still carry markers.
+const MARKED_POINTS: usize = 60;
+
 fn draw_lines<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     title: &str,
@@ -176,7 +195,7 @@ where
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
-            c.draw_series(p.iter().map(|&q| Circle::new(q, 4, color.filled())))?;
+            c.draw_series(markers(&p, color))?;
         }
         let norm = |v: f64, lo: f64, hi: f64| (v / lo).ln() / (hi / lo).ln();
         let curves: Vec<Vec<(f64, f64)>> = series
@@ -207,7 +226,7 @@ where
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
-            c.draw_series(s.points.iter().map(|&q| Circle::new(q, 4, color.filled())))?;
+            c.draw_series(markers(&s.points, color))?;
         }
         c.configure_series_labels()
             .background_style(WHITE.mix(0.85))

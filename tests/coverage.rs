@@ -3,6 +3,8 @@
 //! steady rate, the Avrami fit has `n = 1` and `k = N a / (A T)`, and 98 % coverage takes
 //! `T ln 50 / (N a / A)`. Plus the command end to end.
 
+mod common;
+use common::peenflow;
 use peenflow::coverage::{Dent, compute};
 use rand::{Rng, SeedableRng};
 use std::process::Command;
@@ -106,24 +108,10 @@ fn one_dent_covers_its_disc() {
     assert_eq!((cov.final_coverage, cov.dents_in_window), (0.0, 0));
 }
 
-fn peenflow(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_peenflow"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 #[test]
 fn coverage_command_end_to_end() {
     let t = tempfile::tempdir().unwrap();
-    std::fs::write(
-        t.path().join("s.toml"),
-        "duration_ms = 30.0\n[shots.feed]\ntype = \"stream\"\nmass_flow_kg_min = 3.0\nentry_speed_m_s = 5.0\n[specimen]\nmaterial = \"A5052\"\n",
-    )
-    .unwrap();
-    let o = peenflow(&["run", "s.toml", "-q", "--out", "run"], t.path());
-    assert!(o.status.code().unwrap() <= 1);
+    common::coverage_run(t.path());
     let o = peenflow(
         &[
             "coverage",

@@ -71,6 +71,19 @@ pub struct CoverageArgs {
     /// first).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// A moving nozzle: its traverse speed over the part, mm/s. Coverage of one pass
+    /// across the track, and the speed and passes for full coverage, from this run's
+    /// still nozzle (traverse.csv, traverse.png; docs/coverage.md).
+    #[arg(long, allow_negative_numbers = true)]
+    pub traverse_mm_s: Option<f64>,
+    /// Direction of travel in the specimen plane, degrees from +x (default 0; with
+    /// --traverse-mm-s).
+    #[arg(long, allow_negative_numbers = true)]
+    pub traverse_deg: Option<f64>,
+    /// Distance between neighbouring passes of a raster, mm (with --traverse-mm-s;
+    /// raster.csv).
+    #[arg(long, allow_negative_numbers = true)]
+    pub pitch_mm: Option<f64>,
 }
 
 /// `peenflow sweep`.

@@ -545,6 +545,7 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         })?),
         None => None,
     };
+    let traverse = traverse_of(&a)?;
     if !a.impacts.is_file() {
         bail!("{}: no such impact file", a.impacts.display());
     }
@@ -557,6 +558,7 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         out: a.out.clone(),
         update_h5: !a.no_h5,
         seed: a.seed,
+        traverse,
     })?;
     let c = &r.coverage;
     if r.seed.1 > 1 {
@@ -614,8 +616,101 @@ fn coverage(a: CoverageArgs) -> Result<()> {
             "no Avrami fit: the curve has fewer than 3 points between 0.5 % and 99.5 % coverage (run longer, or choose a smaller --window)"
         ),
     }
+    if let Some(t) = &r.track {
+        print_track(t, r.steady_feed);
+    }
     for p in &r.written {
         println!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// The moving nozzle asked with `--traverse-mm-s`, `--traverse-deg`, `--pitch-mm`.
+fn traverse_of(a: &CoverageArgs) -> Result<Option<crate::coverage::traverse::Traverse>> {
+    let Some(v) = a.traverse_mm_s else {
+        if let Some(d) = a.traverse_deg {
+            bail!("--traverse-deg {d}: give the traverse speed too (--traverse-mm-s)");
+        }
+        if let Some(p) = a.pitch_mm {
+            bail!("--pitch-mm {p}: give the traverse speed too (--traverse-mm-s)");
+        }
+        return Ok(None);
+    };
+    if !(v > 0.0 && v <= 1e5) {
+        bail!("--traverse-mm-s {v}: allowed (0, 100000] mm/s");
+    }
+    let deg = a.traverse_deg.unwrap_or(0.0);
+    if !(-360.0..=360.0).contains(&deg) {
+        bail!("--traverse-deg {deg}: allowed [-360, 360] degrees from +x");
+    }
+    if let Some(p) = a.pitch_mm
+        && !(p > 0.0 && p <= 1e4)
+    {
+        bail!("--pitch-mm {p}: allowed (0, 10000] mm");
+    }
+    Ok(Some(crate::coverage::traverse::Traverse {
+        speed: v * 1e-3,
+        direction: deg.to_radians(),
+        pitch: a.pitch_mm.map(|p| p * 1e-3),
+    }))
+}
+
+/// What a moving nozzle gives, as `peenflow coverage --traverse-mm-s` prints it.
+fn print_track(t: &crate::coverage::traverse::Track, steady: bool) {
+    use crate::coverage::traverse::{FULL, coverage};
+    let v = t.traverse.speed * 1e3;
+    println!(
+        "nozzle moving at {v} mm/s towards {} deg ({} dents of the still nozzle, {:.0} per s; +- is twice the standard error):",
+        t.traverse.direction_deg(),
+        t.dents,
+        t.rate
+    );
+    let peak = t.peak();
+    let strip = |c: f64| match t.width(c) {
+        0.0 => "none".to_string(),
+        x => format!("{:.2} mm wide", x * 1e3),
+    };
+    println!(
+        "  one pass: up to {:.3} +- {:.3} dents per point ({:.1} % coverage) {:.2} mm from the jet axis' line; covered to 50 %: {}, to 98 %: {}",
+        peak.dents,
+        2.0 * peak.se,
+        100.0 * coverage(peak.dents),
+        peak.offset * 1e3,
+        strip(0.5),
+        strip(0.98)
+    );
+    if let (Some((least, mean)), Some(p)) = (t.raster_range(), t.traverse.pitch) {
+        println!(
+            "  raster, passes {} mm apart: {:.3} +- {:.3} dents per point where fewest, {mean:.3} on average ({:.1} % and {:.1} % coverage)",
+            p * 1e3,
+            least.dents,
+            2.0 * least.se,
+            100.0 * coverage(least.dents),
+            100.0 * coverage(mean)
+        );
+    }
+    let (what, one) = match t.raster {
+        Some(_) => ("rasters", "raster"),
+        None => ("passes over one line", "pass"),
+    };
+    let g = t.governing();
+    match t.full_coverage() {
+        Some((speed, passes)) => println!(
+            "  full coverage (98 %, {FULL:.2} dents per point{}): at most {:.3} +- {:.3} mm/s in one {one}, or {passes} {} at {v} mm/s",
+            if t.raster.is_some() {
+                " everywhere"
+            } else {
+                " on the best line"
+            },
+            speed * 1e3,
+            2.0 * speed * 1e3 * g.se / g.dents,
+            if passes == 1 { one } else { what }
+        ),
+        None => println!("  no dent reaches the track"),
+    }
+    if !steady {
+        println!(
+            "  note: this run's feed is not a steady stream; the moving-nozzle figures assume one (docs/coverage.md)"
+        );
+    }
 }

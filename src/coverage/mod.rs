@@ -12,6 +12,7 @@
 
 pub mod dent;
 pub mod output;
+pub mod traverse;
 
 use crate::record::Impact;
 use dent::DentModel;

@@ -2,11 +2,16 @@
 //! writes coverage.csv, coverage.json, the map and the curve (PNG + SVG), and adds a
 //! `/coverage` group to the impact file (rewritten atomically).
 
+use super::traverse::{self, Point, Track, Traverse};
 use super::{Coverage, DentModel, compute, default_window, dents};
 use crate::export::hdf5::{self as h5, Column, H5Error, werr, write_columns};
 use crate::plot::{self, Field, PlotError, Series};
 use crate::scene::{Material, Scene};
 use std::path::{Path, PathBuf};
+
+/// The moving nozzle's profiles are averaged over lateral bands this many median dent
+/// diameters wide ([`Track::new`]).
+pub const BAND_DIAMETERS: f64 = 2.0;
 
 /// Everything `peenflow coverage` was asked.
 #[derive(Debug, Clone)]
@@ -25,6 +30,8 @@ pub struct Request {
     pub update_h5: bool,
     /// Seed to use from a file pooling several seeds (a sweep case); default: the first.
     pub seed: Option<u64>,
+    /// A moving nozzle: coverage per pass and per raster ([`traverse`]).
+    pub traverse: Option<Traverse>,
 }
 
 /// The study's result, for printing.
@@ -44,6 +51,10 @@ pub struct Report {
     pub written: Vec<PathBuf>,
     /// The seed used and how many the file holds (a sweep case pools several).
     pub seed: (u64, usize),
+    /// Coverage under the moving nozzle, when asked.
+    pub track: Option<Track>,
+    /// Whether the run's feed is a steady stream (what [`traverse`] assumes).
+    pub steady_feed: bool,
 }
 
 /// Errors of the coverage command.
@@ -128,6 +139,23 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     let t_end = scene.duration;
     let cov = compute(&ds, window, cell, t_end);
     let mut written = Vec::new();
+    let track = match req.traverse {
+        Some(tr) => Some(
+            Track::new(&ds, tr, median_r / 5.0, BAND_DIAMETERS * 2.0 * median_r).ok_or_else(
+                || CoverageError::Empty {
+                    path: shown.clone(),
+                    message:
+                        "--traverse-mm-s needs at least two dents at different times (a dent rate)"
+                            .into(),
+                },
+            )?,
+        ),
+        None => None,
+    };
+    let steady_feed = matches!(scene.feed, crate::scene::Feed::Stream { .. });
+    if let Some(t) = &track {
+        written.extend(write_track(&req.out, t)?);
+    }
     // coverage.csv
     let mut csv = String::from("exposure_time_s,coverage,avrami_fit\n");
     for (t, c) in &cov.curve {
@@ -158,6 +186,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         "avrami": cov.fit,
         "time_to_98_percent_fit_s": cov.fit.map(|f| f.time_to(0.98)),
         "time_to_98_percent_measured_s": cov.t98_measured,
+        "traverse": track.as_ref().map(track_json),
     });
     let p = req.out.join("coverage.json");
     let mut bytes = serde_json::to_vec_pretty(&json).expect("BUG: json");
@@ -229,7 +258,109 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         coverage: cov,
         written,
         seed: (seed, seeds.len().max(1)),
+        track,
+        steady_feed,
     })
+}
+
+/// The moving nozzle's numbers for coverage.json.
+fn track_json(t: &Track) -> serde_json::Value {
+    let peak = t.peak();
+    let full = t.full_coverage();
+    serde_json::json!({
+        "speed_m_s": t.traverse.speed,
+        "direction_deg": t.traverse.direction_deg(),
+        "pitch_m": t.traverse.pitch,
+        "dents": t.dents,
+        "dent_rate_per_s": t.rate,
+        "one_pass": {
+            "peak_dents_per_point": peak.dents,
+            "peak_standard_error": peak.se,
+            "peak_offset_m": peak.offset,
+            "peak_coverage": traverse::coverage(peak.dents),
+            "width_98_percent_m": t.width(0.98),
+            "width_50_percent_m": t.width(0.5),
+        },
+        "raster": t.raster_range().map(|(least, mean)| serde_json::json!({
+            "least_dents_per_point": least.dents,
+            "least_standard_error": least.se,
+            "least_offset_m": least.offset,
+            "mean_dents_per_point": mean,
+            "least_coverage": traverse::coverage(least.dents),
+            "mean_coverage": traverse::coverage(mean),
+        })),
+        "full_coverage_speed_m_s": full.map(|f| f.0),
+        "passes_for_full_coverage": full.map(|f| f.1),
+    })
+}
+
+/// traverse.csv (one pass across the track), raster.csv (one pitch of a raster) and
+/// the plot of coverage across the track.
+fn write_track(out: &Path, t: &Track) -> Result<Vec<PathBuf>, CoverageError> {
+    let mut written = Vec::new();
+    let rows = |pts: &[Point]| {
+        let mut csv =
+            String::from("lateral_offset_m,dents_per_point,standard_error,coverage,times_full\n");
+        for p in pts {
+            csv.push_str(&format!(
+                "{},{},{},{},{}\n",
+                p.offset,
+                p.dents,
+                p.se,
+                traverse::coverage(p.dents),
+                p.dents / traverse::FULL
+            ));
+        }
+        csv
+    };
+    let p = out.join("traverse.csv");
+    crate::output::write_atomic(&p, rows(&t.pass).as_bytes())?;
+    written.push(p);
+    let v_mm_s = t.traverse.speed * 1e3;
+    // The plot shows the core of the track (rebound hits scatter far and thin).
+    let (lo, hi) = t.core;
+    let shown = |w: f64| (lo..=hi).contains(&w);
+    let mut series = vec![Series {
+        name: format!("one pass at {v_mm_s} mm/s"),
+        points: t
+            .pass
+            .iter()
+            .filter(|p| shown(p.offset))
+            .map(|p| (p.offset * 1e3, 100.0 * traverse::coverage(p.dents)))
+            .collect(),
+    }];
+    if let (Some(r), Some(pitch)) = (&t.raster, t.traverse.pitch) {
+        let p = out.join("raster.csv");
+        crate::output::write_atomic(&p, rows(r).as_bytes())?;
+        written.push(p);
+        // The raster's profile repeats every pitch.
+        let (first, last) = ((lo / pitch).floor() as i64, (hi / pitch).ceil() as i64);
+        let points = (first..last)
+            .flat_map(|k| {
+                r.iter()
+                    .map(move |p| (p.offset + k as f64 * pitch, p.dents))
+            })
+            .filter(|p| shown(p.0))
+            .map(|(w, n)| (w * 1e3, 100.0 * traverse::coverage(n)))
+            .collect();
+        series.push(Series {
+            name: format!("raster, passes {} mm apart", pitch * 1e3),
+            points,
+        });
+    }
+    let stem = out.join("traverse");
+    plot::lines(
+        &stem,
+        &format!(
+            "coverage across the track: nozzle at {v_mm_s} mm/s towards {} deg",
+            t.traverse.direction_deg()
+        ),
+        ("offset from the jet axis' line, mm", "coverage, %"),
+        &series,
+        false,
+    )?;
+    written.push(stem.with_extension("png"));
+    Ok(written)
 }
 
 /// Adds (or replaces) `/coverage` in the impact file: a copy is updated and renamed

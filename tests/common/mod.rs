@@ -23,6 +23,21 @@ pub fn peenflow(args: &[&str], cwd: &Path) -> Output {
         .expect("cannot start peenflow")
 }
 
+/// A 30 ms stream of 3 kg/min onto A5052 run into `dir/run` (the coverage tests' run).
+pub fn coverage_run(dir: &Path) {
+    std::fs::write(
+        dir.join("s.toml"),
+        "duration_ms = 30.0\n[shots.feed]\ntype = \"stream\"\nmass_flow_kg_min = 3.0\nentry_speed_m_s = 5.0\n[specimen]\nmaterial = \"A5052\"\n",
+    )
+    .unwrap();
+    let o = peenflow(&["run", "s.toml", "-q", "--out", "run"], dir);
+    assert!(
+        o.status.code().unwrap() <= 1,
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
 /// Whether `cmd` can run (`probe` arguments). In CI a missing tool is a failure.
 pub fn have(cmd: &str, probe: &[&str]) -> bool {
     let ok = Command::new(cmd)
