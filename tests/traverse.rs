@@ -281,6 +281,34 @@ fn the_coverage_command_prints_and_writes_the_moving_nozzle() {
             .zip(&c)
             .all(|(n, c)| (c - (1.0 - (-n).exp())).abs() < 1e-12)
     );
+    // Into the impact file too (/coverage/traverse), as h5py reads it.
+    let mut with_h5: Vec<&str> = args.iter().copied().filter(|a| *a != "--no-h5").collect();
+    *with_h5.last_mut().unwrap() = "c5";
+    let o = peenflow(&with_h5, t.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    if common::have("python3", &["-c", "import h5py"]) {
+        let o = std::process::Command::new("python3")
+            .args([
+                "-c",
+                "import h5py,sys; g=h5py.File(sys.argv[1])['coverage/traverse']; \
+                 n=g['pass_dents'][:]; r=g['raster_dents'][:]; \
+                 print(g.attrs['speed_m_s'], g.attrs['pitch_m'], len(n), n.sum(), len(r), \
+                 g.attrs['passes_for_full_coverage'])",
+                "run/impacts.h5",
+            ])
+            .current_dir(t.path())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout);
+        let f: Vec<f64> = out.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        assert_eq!((f[0], f[1], f[2] as usize), (0.1, 0.002, n.len()), "{out}");
+        assert!((f[3] / n.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{out}");
+        assert_eq!(
+            f[5] as u64,
+            tr["passes_for_full_coverage"].as_u64().unwrap()
+        );
+    }
     // Bad input: one line naming the option, exit 2.
     for (args, needle) in [
         (

@@ -247,7 +247,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     )?;
     written.push(stem.with_extension("png"));
     if req.update_h5 {
-        add_to_h5(&req.impacts, &cov, &model, &target.name)?;
+        add_to_h5(&req.impacts, &cov, track.as_ref(), &model, &target.name)?;
         written.push(req.impacts.clone());
     }
     Ok(Report {
@@ -365,7 +365,13 @@ fn write_track(out: &Path, t: &Track) -> Result<Vec<PathBuf>, CoverageError> {
 
 /// Adds (or replaces) `/coverage` in the impact file: a copy is updated and renamed
 /// over the original, so a failure leaves the original untouched.
-fn add_to_h5(path: &Path, cov: &Coverage, model: &DentModel, target: &str) -> Result<(), H5Error> {
+fn add_to_h5(
+    path: &Path,
+    cov: &Coverage,
+    track: Option<&Track>,
+    model: &DentModel,
+    target: &str,
+) -> Result<(), H5Error> {
     let err = |m: String| H5Error::Write {
         path: path.display().to_string(),
         message: m,
@@ -440,7 +446,74 @@ fn add_to_h5(path: &Path, cov: &Coverage, model: &DentModel, target: &str) -> Re
             ],
             path,
         )?;
+        if let Some(t) = track {
+            add_track(&g, t, path)?;
+        }
         file.close().map_err(&e)?;
         Ok(())
     })
+}
+
+/// `/coverage/traverse`: the moving nozzle's parameters as attributes, one pass's
+/// profile (`pass_*`) and, with a pitch, the raster's over one pitch (`raster_*`).
+fn add_track(g: &rust_hdf5::H5Group, t: &Track, path: &Path) -> Result<(), H5Error> {
+    let e = werr(path);
+    let tg = g.create_group("traverse").map_err(&e)?;
+    tg.set_attr_numeric("speed_m_s", &t.traverse.speed)
+        .map_err(&e)?;
+    tg.set_attr_numeric("direction_deg", &t.traverse.direction_deg())
+        .map_err(&e)?;
+    if let Some(p) = t.traverse.pitch {
+        tg.set_attr_numeric("pitch_m", &p).map_err(&e)?;
+    }
+    tg.set_attr_numeric("dent_rate_per_s", &t.rate)
+        .map_err(&e)?;
+    tg.set_attr_numeric("band_m", &t.band).map_err(&e)?;
+    if let Some((v, passes)) = t.full_coverage() {
+        tg.set_attr_numeric("full_coverage_speed_m_s", &v)
+            .map_err(&e)?;
+        tg.set_attr_numeric("passes_for_full_coverage", &passes)
+            .map_err(&e)?;
+    }
+    let columns = |prefix: &'static [&'static str; 3], pts: &[Point]| {
+        [
+            Column::F64(
+                prefix[0],
+                "m",
+                "lateral offset, to the left of the line the jet axis follows",
+                pts.iter().map(|p| p.offset).collect(),
+            ),
+            Column::F64(
+                prefix[1],
+                "1",
+                "expected dents per point (coverage 1 - exp(-n))",
+                pts.iter().map(|p| p.dents).collect(),
+            ),
+            Column::F64(
+                prefix[2],
+                "1",
+                "standard error of the expected dents per point",
+                pts.iter().map(|p| p.se).collect(),
+            ),
+        ]
+    };
+    write_columns(
+        &tg,
+        &columns(
+            &["pass_offset_m", "pass_dents", "pass_standard_error"],
+            &t.pass,
+        ),
+        path,
+    )?;
+    if let Some(r) = &t.raster {
+        write_columns(
+            &tg,
+            &columns(
+                &["raster_offset_m", "raster_dents", "raster_standard_error"],
+                r,
+            ),
+            path,
+        )?;
+    }
+    Ok(())
 }
