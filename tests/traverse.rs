@@ -358,3 +358,46 @@ fn the_coverage_command_prints_and_writes_the_moving_nozzle() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("not a steady stream"));
 }
+
+#[test]
+fn a_sweep_case_pools_its_seeds_unless_one_is_chosen() {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::write(
+        t.path().join("s.toml"),
+        "seeds = [1, 2]\n[vary]\n\"air.gauge_pressure_mpa\" = [0.6]\n",
+    )
+    .unwrap();
+    let o = peenflow(&["sweep", "s.toml", "--out", "sw", "-q"], t.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let case = "sw/case-000_gauge_pressure_mpa-0.6/impacts.h5";
+    let traverse = |extra: &[&str], out: &str| -> (serde_json::Value, String) {
+        let mut args = vec![
+            "coverage",
+            case,
+            "--no-h5",
+            "--traverse-mm-s",
+            "50",
+            "--out",
+            out,
+        ];
+        args.extend(extra);
+        let o = peenflow(&args, t.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(t.path().join(out).join("coverage.json")).unwrap(),
+        )
+        .unwrap();
+        (
+            json["traverse"].clone(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        )
+    };
+    let (both, text) = traverse(&[], "both");
+    assert!(text.contains("over the file's 2 seeds"), "{text}");
+    let (one, _) = traverse(&["--seed", "1"], "one");
+    let (two, _) = traverse(&["--seed", "2"], "two");
+    assert_eq!(both["runs"].as_u64(), Some(2));
+    assert_eq!(one["runs"].as_u64(), Some(1));
+    let n = |v: &serde_json::Value| v["dents"].as_u64().unwrap();
+    assert_eq!(n(&both), n(&one) + n(&two));
+}

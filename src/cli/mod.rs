@@ -660,9 +660,13 @@ fn print_track(t: &crate::coverage::traverse::Track, steady: bool) {
     use crate::coverage::traverse::{FULL, coverage};
     let v = t.traverse.speed * 1e3;
     println!(
-        "nozzle moving at {v} mm/s towards {} deg ({} dents of the still nozzle, {:.0} per s; +- is twice the standard error):",
+        "nozzle moving at {v} mm/s towards {} deg ({} dents of the still nozzle{}, {:.0} per s; +- is twice the standard error):",
         t.traverse.direction_deg(),
         t.dents,
+        match t.runs {
+            1 => String::new(),
+            k => format!(" over the file's {k} seeds"),
+        },
         t.rate
     );
     let peak = t.peak();

@@ -139,17 +139,38 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     let t_end = scene.duration;
     let cov = compute(&ds, window, cell, t_end);
     let mut written = Vec::new();
+    // The moving nozzle pools a sweep case's seeds (independent runs of the same still
+    // nozzle) unless one was chosen.
+    let runs: Vec<Vec<super::Dent>> = if req.seed.is_none() && seeds.len() > 1 {
+        seeds
+            .iter()
+            .map(|&s| {
+                let of_seed: Vec<crate::record::Impact> = file
+                    .impacts
+                    .iter()
+                    .zip(&file.seeds)
+                    .filter(|(_, k)| **k == s)
+                    .map(|(i, _)| i.clone())
+                    .collect();
+                dents(&of_seed, &model)
+            })
+            .collect()
+    } else {
+        vec![ds.clone()]
+    };
     let track = match req.traverse {
-        Some(tr) => Some(
-            Track::new(&ds, tr, median_r / 5.0, BAND_DIAMETERS * 2.0 * median_r).ok_or_else(
-                || CoverageError::Empty {
-                    path: shown.clone(),
-                    message:
-                        "--traverse-mm-s needs at least two dents at different times (a dent rate)"
-                            .into(),
-                },
-            )?,
-        ),
+        Some(tr) => {
+            let runs: Vec<&[super::Dent]> = runs.iter().map(|r| r.as_slice()).collect();
+            let band = BAND_DIAMETERS * 2.0 * median_r;
+            Some(
+                Track::pooled(&runs, tr, median_r / 5.0, band).ok_or_else(|| {
+                    CoverageError::Empty {
+                        path: shown.clone(),
+                        message: "--traverse-mm-s needs at least two dents at different times in each run (a dent rate)".into(),
+                    }
+                })?,
+            )
+        }
         None => None,
     };
     let steady_feed = matches!(scene.feed, crate::scene::Feed::Stream { .. });
@@ -272,6 +293,7 @@ fn track_json(t: &Track) -> serde_json::Value {
         "direction_deg": t.traverse.direction_deg(),
         "pitch_m": t.traverse.pitch,
         "dents": t.dents,
+        "runs": t.runs,
         "dent_rate_per_s": t.rate,
         "one_pass": {
             "peak_dents_per_point": peak.dents,

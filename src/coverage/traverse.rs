@@ -55,6 +55,8 @@ pub struct Track {
     pub traverse: Traverse,
     /// Dents of the still nozzle used.
     pub dents: usize,
+    /// Runs they come from.
+    pub runs: usize,
     /// The still nozzle's dent rate, 1/s.
     pub rate: f64,
     /// Spacing of the profiles' points, m.
@@ -96,16 +98,33 @@ impl Track {
     /// curvature times `band^2 / 24`). `None` without at least two dents at distinct
     /// times.
     pub fn new(dents: &[Dent], traverse: Traverse, spacing: f64, band: f64) -> Option<Track> {
-        let (t_lo, t_hi) = dents
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, d| {
-                (a.0.min(d.t), a.1.max(d.t))
-            });
+        Track::pooled(&[dents], traverse, spacing, band)
+    }
+
+    /// [`Track::new`] for independent runs of the same still nozzle (a sweep case's
+    /// seeds): each dent stands for one over their summed exposure. `None` unless
+    /// every run has two dents at distinct times.
+    pub fn pooled(runs: &[&[Dent]], traverse: Traverse, spacing: f64, band: f64) -> Option<Track> {
+        // Each run's exposure: the span of its dents' times, times N / (N - 1).
+        let mut exposure = 0.0;
+        for dents in runs {
+            let (t_lo, t_hi) = dents
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, d| {
+                    (a.0.min(d.t), a.1.max(d.t))
+                });
+            let n = dents.len();
+            if n < 2 || t_hi <= t_lo {
+                return None;
+            }
+            exposure += (t_hi - t_lo) * n as f64 / (n - 1) as f64;
+        }
+        let dents: Vec<&Dent> = runs.iter().flat_map(|r| r.iter()).collect();
         let n = dents.len();
-        if n < 2 || t_hi <= t_lo {
+        if n == 0 {
             return None;
         }
-        let rate = (n - 1) as f64 / (t_hi - t_lo);
+        let rate = n as f64 / exposure;
         let (s, c) = traverse.direction.sin_cos();
         let across: Vec<(f64, f64)> = dents.iter().map(|d| (-d.x * s + d.y * c, d.r)).collect();
         let reach = |(w, r): &(f64, f64), side: f64| w + side * (r + 0.5 * band);
@@ -118,9 +137,9 @@ impl Track {
             .map(|a| reach(a, 1.0))
             .fold(f64::NEG_INFINITY, f64::max);
         let spacing = spacing.max((hi - lo) / 100_000.0);
-        // Each dent stands for `rate / n` dents per second; a point crosses its disc in
-        // chord / speed seconds.
-        let scale = rate / n as f64 / traverse.speed;
+        // Each dent stands for one over the exposure dents per second; a point crosses
+        // its disc in chord / speed seconds.
+        let scale = 1.0 / exposure / traverse.speed;
         let q0 = (lo / spacing).floor() as i64;
         let q1 = (hi / spacing).ceil() as i64;
         let mut sums = vec![(0.0, 0.0); (q1 - q0 + 1) as usize];
@@ -146,6 +165,7 @@ impl Track {
         Some(Track {
             traverse,
             dents: n,
+            runs: runs.len(),
             rate,
             spacing,
             band,
@@ -337,6 +357,27 @@ mod tests {
         // A band of nothing is the chord.
         let narrow = Track::new(&ds, tr, 1e-6, 1e-12).unwrap().peak();
         assert!((narrow.dents - 2e-3).abs() < 1e-9, "{narrow:?}");
+    }
+
+    #[test]
+    fn pooled_runs_keep_the_rate_and_shrink_the_error() {
+        let run: Vec<Dent> = (0..50)
+            .map(|k| dent(1e-4 * (k % 7) as f64, 0.0, 1e-3, 1e-3 * k as f64))
+            .collect();
+        let tr = Traverse {
+            speed: 0.05,
+            direction: 0.0,
+            pitch: Some(2e-3),
+        };
+        let one = Track::new(&run, tr, 1e-5, 0.0).unwrap();
+        let two = Track::pooled(&[&run, &run], tr, 1e-5, 0.0).unwrap();
+        assert_eq!((two.dents, two.runs), (100, 2));
+        assert!((two.rate / one.rate - 1.0).abs() < 1e-12);
+        for (a, b) in one.pass.iter().zip(&two.pass) {
+            assert!((a.dents - b.dents).abs() <= 1e-12 * a.dents.max(1.0));
+            assert!((a.se - b.se * 2f64.sqrt()).abs() <= 1e-12 * a.se.max(1.0));
+        }
+        assert!(Track::pooled(&[&run, &run[..1]], tr, 1e-5, 0.0).is_none());
     }
 
     #[test]
