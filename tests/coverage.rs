@@ -260,14 +260,7 @@ fn coverage_command_end_to_end() {
 #[test]
 fn a_sweep_case_gives_the_coverage_of_one_seed() {
     let t = tempfile::tempdir().unwrap();
-    std::fs::write(
-        t.path().join("s.toml"),
-        "seeds = [1, 2]\n[vary]\n\"air.gauge_pressure_mpa\" = [0.6]\n",
-    )
-    .unwrap();
-    let o = peenflow(&["sweep", "s.toml", "--out", "sw", "-q"], t.path());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let case = "sw/case-000_gauge_pressure_mpa-0.6/impacts.h5";
+    let case = common::two_seed_sweep(t.path());
     let mut dents = Vec::new();
     for seed in ["1", "2"] {
         let out = format!("c{seed}");

@@ -362,14 +362,7 @@ fn the_coverage_command_prints_and_writes_the_moving_nozzle() {
 #[test]
 fn a_sweep_case_pools_its_seeds_unless_one_is_chosen() {
     let t = tempfile::tempdir().unwrap();
-    std::fs::write(
-        t.path().join("s.toml"),
-        "seeds = [1, 2]\n[vary]\n\"air.gauge_pressure_mpa\" = [0.6]\n",
-    )
-    .unwrap();
-    let o = peenflow(&["sweep", "s.toml", "--out", "sw", "-q"], t.path());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let case = "sw/case-000_gauge_pressure_mpa-0.6/impacts.h5";
+    let case = common::two_seed_sweep(t.path());
     let traverse = |extra: &[&str], out: &str| -> (serde_json::Value, String) {
         let mut args = vec![
             "coverage",

@@ -114,14 +114,18 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         }
         None => seeds.first().copied().unwrap_or(file.seed),
     };
-    let impacts: Vec<crate::record::Impact> = file
-        .impacts
-        .iter()
-        .zip(&file.seeds)
-        .filter(|(_, s)| **s == seed)
-        .map(|(i, _)| i.clone())
-        .collect();
-    let ds = dents(&impacts, &model);
+    // The dents of one seed's run.
+    let dents_of = |seed: u64| {
+        let impacts: Vec<crate::record::Impact> = file
+            .impacts
+            .iter()
+            .zip(&file.seeds)
+            .filter(|(_, s)| **s == seed)
+            .map(|(i, _)| i.clone())
+            .collect();
+        dents(&impacts, &model)
+    };
+    let ds = dents_of(seed);
     if ds.is_empty() {
         return Err(CoverageError::Empty {
             path: shown,
@@ -142,19 +146,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     // The moving nozzle pools a sweep case's seeds (independent runs of the same still
     // nozzle) unless one was chosen.
     let runs: Vec<Vec<super::Dent>> = if req.seed.is_none() && seeds.len() > 1 {
-        seeds
-            .iter()
-            .map(|&s| {
-                let of_seed: Vec<crate::record::Impact> = file
-                    .impacts
-                    .iter()
-                    .zip(&file.seeds)
-                    .filter(|(_, k)| **k == s)
-                    .map(|(i, _)| i.clone())
-                    .collect();
-                dents(&of_seed, &model)
-            })
-            .collect()
+        seeds.iter().map(|&s| dents_of(s)).collect()
     } else {
         vec![ds.clone()]
     };

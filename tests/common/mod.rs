@@ -38,6 +38,19 @@ pub fn coverage_run(dir: &Path) {
     );
 }
 
+/// A sweep of the default scene over seeds 1 and 2 run into `dir/sw`; the path of its
+/// one case's impact file, relative to `dir`.
+pub fn two_seed_sweep(dir: &Path) -> &'static str {
+    std::fs::write(
+        dir.join("s.toml"),
+        "seeds = [1, 2]\n[vary]\n\"air.gauge_pressure_mpa\" = [0.6]\n",
+    )
+    .unwrap();
+    let o = peenflow(&["sweep", "s.toml", "--out", "sw", "-q"], dir);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    "sw/case-000_gauge_pressure_mpa-0.6/impacts.h5"
+}
+
 /// Whether `cmd` can run (`probe` arguments). In CI a missing tool is a failure.
 pub fn have(cmd: &str, probe: &[&str]) -> bool {
     let ok = Command::new(cmd)
