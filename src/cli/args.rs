@@ -68,7 +68,7 @@ pub struct CoverageArgs {
     #[arg(long)]
     pub no_h5: bool,
     /// Seed to use from a sweep case's impacts.h5, which pools several (default: the
-    /// first).
+    /// first; the moving nozzle's figures pool them all).
     #[arg(long)]
     pub seed: Option<u64>,
     /// A moving nozzle: its traverse speed over the part, mm/s. Coverage of one pass
