@@ -264,11 +264,23 @@ where
         .y_label_area_size(64)
         .build_cartesian_2d(0.0..n as f64, 0.0..y1)?;
     let cats = categories.to_vec();
+    let whole = bars
+        .iter()
+        .flat_map(|b| b.values.iter())
+        .all(|v| v.fract() == 0.0);
     c.configure_mesh()
         .disable_x_mesh()
         .x_desc(xl)
         .y_desc(yl)
         .x_labels(n + 1)
+        .y_label_formatter(&|v| {
+            // Counts read as counts: no ".0" on whole numbers.
+            if whole && v.fract() == 0.0 {
+                format!("{v:.0}")
+            } else {
+                short(*v)
+            }
+        })
         .x_label_formatter(&move |x| {
             // Ticks sit on bin edges: label each with its bin's lower edge.
             if (x - x.round()).abs() < 1e-6 {
@@ -299,14 +311,26 @@ where
     Ok(())
 }
 
+/// Draws `stem.png` and `stem.svg` with `f(path, png)`, each into a hidden temporary file
+/// renamed into place once complete: a failed plot leaves no half-written figure.
 fn both(stem: &Path, f: &dyn Fn(&Path, bool) -> DResult) -> Result<(), PlotError> {
     register_fonts();
     for (ext, png) in [("png", true), ("svg", false)] {
         let p = stem.with_extension(ext);
-        f(&p, png).map_err(|e| PlotError::Draw {
-            path: p.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let name = stem
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        // The backend picks the image format from the extension, so it stays last.
+        let tmp = stem.with_file_name(format!(".{name}.tmp.{ext}"));
+        let result = f(&tmp, png).and_then(|()| Ok(std::fs::rename(&tmp, &p)?));
+        if let Err(e) = result {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(PlotError::Draw {
+                path: p.display().to_string(),
+                message: e.to_string(),
+            });
+        }
     }
     Ok(())
 }
@@ -503,13 +527,23 @@ where
             Rectangle::new([(ax, ay), (ax + dx, ay + dy)], color.filled())
         })
     }))?;
-    // Colour bar.
-    let mut cb = ChartBuilder::on(&bar)
+    colour_bar(&bar, f.label, vmax)?;
+    root.present()?;
+    Ok(())
+}
+
+/// A viridis colour bar from 0 to `vmax` on `area`, captioned `label`.
+fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, label: &str, vmax: f64) -> DResult
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    let mut cb = ChartBuilder::on(area)
         .margin_top(50)
         .margin_bottom(56)
         .margin_right(8)
         .y_label_area_size(52)
-        .caption(f.label, ("sans-serif", 13))
+        .caption(label, ("sans-serif", 13))
         .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
     cb.configure_mesh()
         .disable_mesh()
@@ -526,6 +560,175 @@ where
         let color = ViridisRGB.get_color(((k as f64 + 0.5) / steps as f64) as f32);
         Rectangle::new([(0.0, a), (1.0, b)], color.filled())
     }))?;
+    Ok(())
+}
+
+/// One point of a [`Map`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapPoint {
+    /// Position in plot units.
+    pub x: f64,
+    /// Position in plot units.
+    pub y: f64,
+    /// Value shown by the point's colour.
+    pub value: f64,
+    /// Drawn filled (else as a ring).
+    pub filled: bool,
+}
+
+/// Points on a square frame, coloured by a value, for [`map_with_bars`].
+#[derive(Debug, Clone)]
+pub struct Map<'a> {
+    /// Panel title.
+    pub title: &'a str,
+    /// Axis labels.
+    pub labels: (&'a str, &'a str),
+    /// `[x0, x1, y0, y1]`, plot units.
+    pub extent: [f64; 4],
+    /// The points; those outside the frame are not drawn.
+    pub points: &'a [MapPoint],
+    /// Colour-bar label.
+    pub value_label: &'a str,
+    /// Top of the colour scale (its bottom is 0).
+    pub value_max: f64,
+    /// Legend entries of the filled and the ringed points.
+    pub kinds: (&'a str, &'a str),
+    /// A marked place `(x, y, label)`, drawn as a cross.
+    pub cross: Option<(f64, f64, &'a str)>,
+}
+
+/// One panel of grouped bars, for [`map_with_bars`].
+#[derive(Debug, Clone)]
+pub struct BarPanel<'a> {
+    /// Panel title.
+    pub title: &'a str,
+    /// Axis labels.
+    pub labels: (&'a str, &'a str),
+    /// Lower edges of the bins.
+    pub categories: &'a [String],
+    /// The bar sets.
+    pub bars: &'a [Bars],
+}
+
+/// Writes `stem.png` and `stem.svg`: a map on the left, the bar panels stacked on the
+/// right, under one title.
+pub fn map_with_bars(
+    stem: &Path,
+    title: &str,
+    map: &Map<'_>,
+    panels: &[BarPanel<'_>],
+) -> Result<(), PlotError> {
+    let size = (1400, 760);
+    both(stem, &|p, png| {
+        if png {
+            draw_map_with_bars(
+                BitMapBackend::new(p, size).into_drawing_area(),
+                title,
+                map,
+                panels,
+            )
+        } else {
+            draw_map_with_bars(
+                SVGBackend::new(p, size).into_drawing_area(),
+                title,
+                map,
+                panels,
+            )
+        }
+    })
+}
+
+fn draw_map_with_bars<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    m: &Map<'_>,
+    panels: &[BarPanel<'_>],
+) -> DResult
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
+    root.fill(&WHITE)?;
+    let body = root.titled(title, ("sans-serif", 22))?;
+    let (left, right) = body.split_horizontally(830);
+    let (frame, bar) = left.split_horizontally(710);
+    let [x0, x1, y0, y1] = m.extent;
+    let mut c = ChartBuilder::on(&frame)
+        .caption(m.title, ("sans-serif", 17))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    c.configure_mesh()
+        .x_desc(m.labels.0)
+        .y_desc(m.labels.1)
+        .x_label_formatter(&|v| short(*v))
+        .y_label_formatter(&|v| short(*v))
+        .light_line_style(WHITE)
+        .bold_line_style(BLACK.mix(0.12))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    let vmax = m.value_max.max(1e-300);
+    let colour = |v: f64| ViridisRGB.get_color((v / vmax).clamp(0.0, 1.0) as f32);
+    let inside = |q: &&MapPoint| q.x >= x0 && q.x <= x1 && q.y >= y0 && q.y <= y1;
+    // Small points when there are many.
+    let r = if m.points.len() > 2000 { 2 } else { 3 };
+    // Rings first, so the filled points stay visible where both fall; within each kind
+    // the highest values last, on top.
+    for filled in [false, true] {
+        let mut pts: Vec<&MapPoint> = m
+            .points
+            .iter()
+            .filter(inside)
+            .filter(|q| q.filled == filled)
+            .collect();
+        pts.sort_by(|a, b| a.value.total_cmp(&b.value));
+        let grey = BLACK.mix(0.55);
+        let (name, style) = if filled {
+            (m.kinds.0, grey.filled())
+        } else {
+            (m.kinds.1, grey.stroke_width(1))
+        };
+        if pts.is_empty() {
+            continue;
+        }
+        c.draw_series(pts.into_iter().map(|q| {
+            let style = if q.filled {
+                colour(q.value).filled()
+            } else {
+                colour(q.value).stroke_width(1)
+            };
+            Circle::new((q.x, q.y), r, style)
+        }))?
+        .label(name)
+        .legend(move |(x, y)| Circle::new((x + 7, y), 4, style));
+    }
+    if let Some((cx, cy, label)) = m.cross {
+        let s = 0.02 * (x1 - x0);
+        let red = RGBColor(214, 39, 40).stroke_width(2);
+        c.draw_series([
+            PathElement::new(vec![(cx - s, cy), (cx + s, cy)], red),
+            PathElement::new(vec![(cx, cy - s), (cx, cy + s)], red),
+        ])?
+        .label(label)
+        .legend(move |(x, y)| {
+            PathElement::new(
+                vec![(x, y), (x + 14, y)],
+                RGBColor(214, 39, 40).stroke_width(2),
+            )
+        });
+    }
+    c.configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    colour_bar(&bar, m.value_label, vmax)?;
+    let rows = panels.len().max(1);
+    for (area, p) in right.split_evenly((rows, 1)).into_iter().zip(panels) {
+        draw_bars(area, p.title, p.labels, p.categories, p.bars)?;
+    }
     root.present()?;
     Ok(())
 }

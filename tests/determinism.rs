@@ -1,4 +1,5 @@
-//! Same scene + seed => byte-identical impacts.csv and shots.csv, for 1 and 2 threads.
+//! Same scene + seed => byte-identical impacts.csv and shots.csv (and the run's picture),
+//! for 1 and 2 threads.
 
 mod common;
 use common::*;
@@ -16,6 +17,7 @@ fn outputs_are_identical_across_runs_and_thread_counts() {
         outputs.push((
             fs::read(dir.join("impacts.csv")).unwrap(),
             fs::read(dir.join("shots.csv")).unwrap(),
+            fs::read(dir.join("impacts.svg")).unwrap(),
         ));
     }
     assert!(outputs[0].0.len() > 500);

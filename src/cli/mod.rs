@@ -5,7 +5,7 @@ pub mod args;
 
 use crate::export::{self, ExportRequest, deck::UnitSystem, select::Selection};
 use crate::output;
-use crate::scene::{DEFAULT_SCENE, Scene, material};
+use crate::scene::{DEFAULT_SCENE, Feed, Scene, material};
 use crate::sim::Simulation;
 use anyhow::{Context, Result, bail};
 pub use args::{
@@ -105,7 +105,10 @@ fn run_scene(a: RunArgs) -> Result<()> {
     // flight, not every impact and shot (see `Simulation::run_into`).
     let mut sink = (
         output::RunWriter::create(&a.out)?,
-        crate::summary::SummaryBuilder::default(),
+        (
+            crate::summary::SummaryBuilder::default(),
+            crate::record::figure::ImpactFigure::default(),
+        ),
     );
     // A run redone on windows starts its progress again: say why at that moment.
     let live = bar.clone();
@@ -118,7 +121,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
     let out = sim.run_into(&mut sink, &|f| bar.set_position((f * 1000.0) as u64));
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
-    let (writer, builder) = sink;
+    let (writer, (builder, figure)) = sink;
     let summary = builder.finish(
         &scene,
         &effects.decisions,
@@ -127,6 +130,13 @@ fn run_scene(a: RunArgs) -> Result<()> {
         rayon::current_num_threads(),
     );
     writer.finish(&scene, out.end_time, &summary)?;
+    // Shots fed through the nozzle: its axis meets the specimen at the origin.
+    let through_nozzle = matches!(scene.feed, Feed::Batch { .. } | Feed::Stream { .. });
+    figure.write(
+        &a.out.join("impacts"),
+        &scene.title,
+        through_nozzle.then_some((0.0, 0.0)),
+    )?;
     if !out.snapshots.is_empty() {
         output::write_snapshots(&a.out.join("snapshots"), &out.snapshots)?;
     }
@@ -154,7 +164,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
     if !a.quiet {
         print!("{}", summary.text());
         println!(
-            "wrote {}/impacts.csv, impacts.h5, shots.csv, summary.json",
+            "wrote {}/impacts.csv, impacts.h5, shots.csv, summary.json, impacts.png, impacts.svg",
             a.out.display()
         );
         if !out.snapshots.is_empty() {

@@ -5,6 +5,8 @@
 //! their own buffers; the simulation merges them and sorts by (time, shot), so the output
 //! does not depend on the thread count.
 
+pub mod figure;
+
 use crate::Vec3;
 use serde::Serialize;
 
