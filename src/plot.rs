@@ -59,6 +59,20 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(140, 86, 75),
 ];
 
+/// Draws `stem.png` and `stem.svg` (see [`both`]) with `draw(root, args...)` on a
+/// drawing area of `size` pixels of each backend.
+macro_rules! draw_both {
+    ($stem:expr, $size:expr, $draw:ident($($arg:expr),*)) => {
+        both($stem, &|p, png| {
+            if png {
+                $draw(BitMapBackend::new(p, $size).into_drawing_area(), $($arg),*)
+            } else {
+                $draw(SVGBackend::new(p, $size).into_drawing_area(), $($arg),*)
+            }
+        })
+    };
+}
+
 type DResult = Result<(), Box<dyn std::error::Error>>;
 
 /// Axis label: plain for ordinary magnitudes, `1e-6` style otherwise.
@@ -377,25 +391,7 @@ pub fn lines(
     series: &[Series],
     log: bool,
 ) -> Result<(), PlotError> {
-    both(stem, &|p, png| {
-        if png {
-            draw_lines(
-                BitMapBackend::new(p, (900, 600)).into_drawing_area(),
-                title,
-                labels,
-                series,
-                log,
-            )
-        } else {
-            draw_lines(
-                SVGBackend::new(p, (900, 600)).into_drawing_area(),
-                title,
-                labels,
-                series,
-                log,
-            )
-        }
-    })
+    draw_both!(stem, (900, 600), draw_lines(title, labels, series, log))
 }
 
 /// Writes `stem.png` and `stem.svg`: grouped bars over `categories`.
@@ -406,25 +402,7 @@ pub fn bars(
     categories: &[String],
     bars: &[Bars],
 ) -> Result<(), PlotError> {
-    both(stem, &|p, png| {
-        if png {
-            draw_bars(
-                BitMapBackend::new(p, (900, 600)).into_drawing_area(),
-                title,
-                labels,
-                categories,
-                bars,
-            )
-        } else {
-            draw_bars(
-                SVGBackend::new(p, (900, 600)).into_drawing_area(),
-                title,
-                labels,
-                categories,
-                bars,
-            )
-        }
-    })
+    draw_both!(stem, (900, 600), draw_bars(title, labels, categories, bars))
 }
 
 /// A scalar field on a regular grid, for [`heatmap`].
@@ -453,23 +431,7 @@ pub fn heatmap(
     labels: (&str, &str),
     field: &Field<'_>,
 ) -> Result<(), PlotError> {
-    both(stem, &|p, png| {
-        if png {
-            draw_heatmap(
-                BitMapBackend::new(p, (820, 700)).into_drawing_area(),
-                title,
-                labels,
-                field,
-            )
-        } else {
-            draw_heatmap(
-                SVGBackend::new(p, (820, 700)).into_drawing_area(),
-                title,
-                labels,
-                field,
-            )
-        }
-    })
+    draw_both!(stem, (820, 700), draw_heatmap(title, labels, field))
 }
 
 fn draw_heatmap<DB: DrawingBackend>(
@@ -618,24 +580,7 @@ pub fn map_with_bars(
     map: &Map<'_>,
     panels: &[BarPanel<'_>],
 ) -> Result<(), PlotError> {
-    let size = (1400, 760);
-    both(stem, &|p, png| {
-        if png {
-            draw_map_with_bars(
-                BitMapBackend::new(p, size).into_drawing_area(),
-                title,
-                map,
-                panels,
-            )
-        } else {
-            draw_map_with_bars(
-                SVGBackend::new(p, size).into_drawing_area(),
-                title,
-                map,
-                panels,
-            )
-        }
-    })
+    draw_both!(stem, (1400, 760), draw_map_with_bars(title, map, panels))
 }
 
 fn draw_map_with_bars<DB: DrawingBackend>(
