@@ -288,11 +288,11 @@ where
         .y_desc(yl)
         .x_labels(n + 1)
         .y_label_formatter(&|v| {
-            // Counts read as counts: no ".0" on whole numbers.
-            if whole && v.fract() == 0.0 {
-                format!("{v:.0}")
-            } else {
-                short(*v)
+            // Counts read as counts: whole numbers only, without ".0".
+            match (whole, v.fract() == 0.0) {
+                (true, true) => format!("{v:.0}"),
+                (true, false) => String::new(),
+                (false, _) => short(*v),
             }
         })
         .x_label_formatter(&move |x| {
@@ -648,13 +648,18 @@ where
         .label(name)
         .legend(move |(x, y)| Circle::new((x + 7, y), 4, style));
     }
+    // The mark on top, open in the middle: a point on it stays visible.
     if let Some((cx, cy, label)) = m.cross {
-        let s = 0.02 * (x1 - x0);
+        let (s, g) = (0.025 * (x1 - x0), 0.008 * (x1 - x0));
         let red = RGBColor(214, 39, 40).stroke_width(2);
-        c.draw_series([
-            PathElement::new(vec![(cx - s, cy), (cx + s, cy)], red),
-            PathElement::new(vec![(cx, cy - s), (cx, cy + s)], red),
-        ])?
+        c.draw_series(
+            [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)].map(|(u, v)| {
+                PathElement::new(
+                    vec![(cx + g * u, cy + g * v), (cx + s * u, cy + s * v)],
+                    red,
+                )
+            }),
+        )?
         .label(label)
         .legend(move |(x, y)| {
             PathElement::new(

@@ -5,7 +5,7 @@ pub mod args;
 
 use crate::export::{self, ExportRequest, deck::UnitSystem, select::Selection};
 use crate::output;
-use crate::scene::{DEFAULT_SCENE, Feed, Scene, material};
+use crate::scene::{DEFAULT_SCENE, Scene, material};
 use crate::sim::Simulation;
 use anyhow::{Context, Result, bail};
 pub use args::{
@@ -130,12 +130,12 @@ fn run_scene(a: RunArgs) -> Result<()> {
         rayon::current_num_threads(),
     );
     writer.finish(&scene, out.end_time, &summary)?;
-    // Shots fed through the nozzle: its axis meets the specimen at the origin.
-    let through_nozzle = matches!(scene.feed, Feed::Batch { .. } | Feed::Stream { .. });
+    // The jet axis meets the specimen at the origin: marked when the jet acts on shots.
+    let jet = effects.drag || effects.lateral_force;
     figure.write(
         &a.out.join("impacts"),
         &scene.title,
-        through_nozzle.then_some((0.0, 0.0)),
+        jet.then_some((0.0, 0.0)),
     )?;
     if !out.snapshots.is_empty() {
         output::write_snapshots(&a.out.join("snapshots"), &out.snapshots)?;

@@ -11,8 +11,8 @@
 //!   fourth, ... impact in the run's (time, shot) order, so the picture does
 //!   not depend on the thread count. The title says when it is a sample. Faster impacts
 //!   are drawn over slower ones, first hits over rebound hits.
-//! * The frame is square, centred on the jet axis' foot when the shots come through the
-//!   nozzle (on the middle of the impacts otherwise), and wide enough for the nearest 95 %
+//! * The frame is square, centred on the jet axis' foot when the air jet acts on the shots
+//!   (on the middle of the impacts otherwise), and wide enough for the nearest 95 %
 //!   of the impacts with a margin: the few far rebounds would otherwise shrink the
 //!   pattern to a dot. The panel's title counts the impacts left outside.
 
@@ -122,6 +122,15 @@ fn bar_width(top: usize) -> usize {
         .unwrap_or(10_000)
 }
 
+/// `n` and `thing`, in the plural unless `n` is 1.
+fn plural(n: u64, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 fn label(v: f64) -> String {
     let s = format!("{v:.1}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -158,7 +167,7 @@ impl ImpactFigure {
     }
 
     /// Writes `stem.png` and `stem.svg`. `axis_foot`: where the jet axis meets the
-    /// specimen (mm), when the shots come through the nozzle.
+    /// specimen (mm), when the air jet acts on the shots.
     pub fn write(
         &self,
         stem: &Path,
@@ -232,7 +241,7 @@ impl ImpactFigure {
                 self.sample.len()
             )
         } else {
-            format!("{} impacts", self.seen)
+            plural(self.seen, "impact")
         };
         let map_title = if outside > 0 {
             format!("Where the shots hit: {what}, {outside} outside the frame")
@@ -250,8 +259,10 @@ impl ImpactFigure {
             cross: axis_foot.map(|(x, y)| (x, y, "jet axis")),
         };
         let whole = format!(
-            "{title}: {} impacts ({firsts} first hits, {rebounds} rebound hits)",
-            self.seen
+            "{title}: {} ({}, {})",
+            plural(self.seen, "impact"),
+            plural(firsts, "first hit"),
+            plural(rebounds, "rebound hit")
         );
         plot::map_with_bars(
             stem,
