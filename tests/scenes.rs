@@ -158,6 +158,68 @@ fn init_writes_the_default_scene_which_loads() {
 }
 
 #[test]
+fn init_writes_every_example_and_lists_them() {
+    use peenflow::scene::examples::EXAMPLES;
+    // The embedded examples are exactly the files of examples/.
+    let mut files: Vec<String> = fs::read_dir(root().join("examples"))
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "toml").then(|| p.file_stem().unwrap().to_string_lossy().into())
+        })
+        .collect();
+    files.sort();
+    let mut names: Vec<String> = EXAMPLES.iter().map(|e| e.name.to_string()).collect();
+    names.sort();
+    assert_eq!(
+        names, files,
+        "examples/ and scene::examples::EXAMPLES differ"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let list = peenflow(&["init", "--list"], tmp.path());
+    assert!(list.status.success());
+    let list = String::from_utf8_lossy(&list.stdout);
+    for e in EXAMPLES {
+        assert!(
+            list.contains(&format!("{:<18} {}", e.name, e.about)),
+            "{list}"
+        );
+        // Written byte for byte, to NAME.toml by default; it says how to run it.
+        let o = peenflow(&["init", "--example", e.name], tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let path = tmp.path().join(format!("{}.toml", e.name));
+        assert_eq!(
+            fs::read(&path).unwrap(),
+            fs::read(root().join("examples").join(format!("{}.toml", e.name))).unwrap()
+        );
+        let command = if e.sweep {
+            "peenflow sweep"
+        } else {
+            "peenflow run"
+        };
+        assert!(String::from_utf8_lossy(&o.stderr).contains(command));
+    }
+    // To a path of one's choice, or to standard output.
+    let o = peenflow(&["init", "--example", "single_shot", "s.toml"], tmp.path());
+    assert!(o.status.success());
+    Scene::load(&tmp.path().join("s.toml")).unwrap();
+    let o = peenflow(&["init", "--example", "angle_45", "-"], tmp.path());
+    assert_eq!(
+        o.stdout,
+        fs::read(root().join("examples/angle_45.toml")).unwrap()
+    );
+    // An unknown name: one line with the names allowed; nothing written.
+    let o = peenflow(&["init", "--example", "gear"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--example gear: no such example; allowed: single_shot, angle_45"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("gear.toml").exists());
+}
+
+#[test]
 fn errors_doc_quotes_every_expected_message() {
     let doc = fs::read_to_string(root().join("docs/errors.md")).unwrap();
     for entry in fs::read_dir(root().join("tests/scenes/bad")).unwrap() {

@@ -17,9 +17,10 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Run a scene (default: the paper's Table 2 scene) and write impacts.csv,
-    /// impacts.h5, shots.csv and summary.json.
+    /// impacts.h5, shots.csv, summary.json and impacts.png/svg.
     Run(RunArgs),
-    /// Write a commented scene file (the paper's Table 2 scene) to start from.
+    /// Write a commented scene file to start from: the paper's Table 2 scene, or one of
+    /// the examples (--example NAME; --list shows them).
     Init(InitArgs),
     /// Export impacts (from a run's impacts.h5) as FE decks, VTK or CSV.
     Export(ExportArgs),
@@ -215,9 +216,15 @@ pub struct ExportArgs {
 /// `peenflow init`.
 #[derive(Debug, clap::Args)]
 pub struct InitArgs {
-    /// Where to write the scene (`-` for standard output).
-    #[arg(default_value = "scene.toml")]
-    pub path: PathBuf,
+    /// Where to write the scene (`-` for standard output; default scene.toml, or
+    /// NAME.toml with --example).
+    pub path: Option<PathBuf>,
+    /// Write the example scene NAME instead of the Table 2 scene (see --list).
+    #[arg(long, value_name = "NAME")]
+    pub example: Option<String>,
+    /// List the examples and what each shows.
+    #[arg(long, conflicts_with = "example")]
+    pub list: bool,
     /// Overwrite an existing file.
     #[arg(long)]
     pub force: bool,

@@ -14,6 +14,7 @@ pub use args::{
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Runs a parsed command line.
@@ -47,21 +48,53 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn init(a: InitArgs) -> Result<()> {
-    if a.path.as_os_str() == "-" {
-        print!("{DEFAULT_SCENE}");
+    use crate::scene::examples;
+    if a.list {
+        for e in examples::EXAMPLES {
+            println!("{:<18} {}", e.name, e.about);
+        }
+        println!("write one with: peenflow init --example NAME [PATH]");
         return Ok(());
     }
-    if a.path.exists() && !a.force {
+    let (text, what, command, default_path) = match &a.example {
+        None => (
+            DEFAULT_SCENE,
+            "the paper's Table 2 scene",
+            "run",
+            "scene.toml".into(),
+        ),
+        Some(name) => {
+            let Some(e) = examples::find(name) else {
+                bail!(
+                    "--example {name}: no such example; allowed: {}",
+                    examples::names()
+                );
+            };
+            let command = if e.sweep { "sweep" } else { "run" };
+            (
+                e.text,
+                e.about,
+                command,
+                PathBuf::from(format!("{name}.toml")),
+            )
+        }
+    };
+    let path = a.path.unwrap_or(default_path);
+    if path.as_os_str() == "-" {
+        print!("{text}");
+        return Ok(());
+    }
+    if path.exists() && !a.force {
         bail!(
             "{}: file exists; pass --force to overwrite it",
-            a.path.display()
+            path.display()
         );
     }
-    output::write_atomic(&a.path, DEFAULT_SCENE.as_bytes())?;
+    output::write_atomic(&path, text.as_bytes())?;
     eprintln!(
-        "wrote {} (the paper's Table 2 scene); run it with: peenflow run {}",
-        a.path.display(),
-        a.path.display()
+        "wrote {} ({what}); run it with: peenflow {command} {}",
+        path.display(),
+        path.display()
     );
     Ok(())
 }

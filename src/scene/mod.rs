@@ -7,6 +7,7 @@
 
 pub mod effects;
 pub mod error;
+pub mod examples;
 pub mod file;
 pub mod material;
 pub mod validate;
