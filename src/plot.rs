@@ -278,6 +278,9 @@ where
         .y_label_area_size(64)
         .build_cartesian_2d(0.0..n as f64, 0.0..y1)?;
     let cats = categories.to_vec();
+    // Many long labels would run into each other: label every other bar.
+    let widest = cats.iter().map(|c| c.chars().count()).max().unwrap_or(0);
+    let every = if n > 12 && widest > 2 { 2 } else { 1 };
     let whole = bars
         .iter()
         .flat_map(|b| b.values.iter())
@@ -297,7 +300,7 @@ where
         })
         .x_label_formatter(&move |x| {
             // Ticks sit on bin edges: label each with its bin's lower edge.
-            if (x - x.round()).abs() < 1e-6 {
+            if (x - x.round()).abs() < 1e-6 && (x.round() as usize).is_multiple_of(every) {
                 cats.get(x.round() as usize).cloned().unwrap_or_default()
             } else {
                 String::new()
