@@ -671,12 +671,15 @@ where
             )
         });
     }
-    c.configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()?;
+    let labelled = m.cross.is_some() || m.points.iter().any(|q| inside(&q));
+    if labelled {
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()?;
+    }
     colour_bar(&bar, m.value_label, vmax)?;
     let rows = panels.len().max(1);
     for (area, p) in right.split_evenly((rows, 1)).into_iter().zip(panels) {
