@@ -80,7 +80,7 @@ impl RunSink for ImpactFigure {
                 Some(c) => *c += 1,
                 None => self.speed_overflow[kind] += 1,
             }
-            let a = (i.angle_deg.clamp(0.0, 89.999) as usize).min(89);
+            let a = i.angle_deg.clamp(0.0, 89.0) as usize;
             self.angle[kind][a] += 1;
             if self.seen.is_multiple_of(self.stride) {
                 self.sample.push(Sampled {
@@ -108,8 +108,9 @@ impl RunSink for ImpactFigure {
 
 /// `bins` bars of `fine` counts, `merge` fine bins each, from the first.
 fn merged(fine: &[u64], merge: usize, bins: usize) -> Vec<f64> {
-    (0..bins)
-        .map(|b| fine.iter().skip(b * merge).take(merge).sum::<u64>() as f64)
+    fine.chunks(merge)
+        .take(bins)
+        .map(|c| c.iter().sum::<u64>() as f64)
         .collect()
 }
 
