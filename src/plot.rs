@@ -59,17 +59,43 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(140, 86, 75),
 ];
 
-/// Draws `stem.png` and `stem.svg` (see [`both`]) with `draw(root, args...)` on a
-/// drawing area of `size` pixels of each backend.
+/// A figure rendered in memory: `(extension, bytes)` of its PNG and its SVG.
+pub type Rendered = [(&'static str, Vec<u8>); 2];
+
+/// Renders `draw(root, args...)` on a drawing area of `size` pixels of each backend, in
+/// memory: `Result<Rendered, String>`.
+macro_rules! render_both {
+    ($size:expr, $draw:ident($($arg:expr),*)) => {{
+        register_fonts();
+        (|| -> Result<Rendered, Box<dyn std::error::Error>> {
+            let (w, h): (u32, u32) = $size;
+            let mut rgb = vec![0u8; w as usize * h as usize * 3];
+            $draw(BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area(), $($arg),*)?;
+            let mut png = Vec::new();
+            image::ImageEncoder::write_image(
+                image::codecs::png::PngEncoder::new(&mut png),
+                &rgb,
+                w,
+                h,
+                image::ColorType::Rgb8,
+            )?;
+            let mut svg = String::new();
+            $draw(SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area(), $($arg),*)?;
+            Ok([("png", png), ("svg", svg.into_bytes())])
+        })()
+        .map_err(|e| e.to_string())
+    }};
+}
+
+/// Renders as [`render_both`] and writes `stem.png` and `stem.svg` (see [`write`]).
 macro_rules! draw_both {
     ($stem:expr, $size:expr, $draw:ident($($arg:expr),*)) => {
-        both($stem, &|p, png| {
-            if png {
-                $draw(BitMapBackend::new(p, $size).into_drawing_area(), $($arg),*)
-            } else {
-                $draw(SVGBackend::new(p, $size).into_drawing_area(), $($arg),*)
-            }
-        })
+        render_both!($size, $draw($($arg),*))
+            .map_err(|message| PlotError::Draw {
+                path: $stem.display().to_string(),
+                message,
+            })
+            .and_then(|r| write($stem, &r))
     };
 }
 
@@ -328,26 +354,15 @@ where
     Ok(())
 }
 
-/// Draws `stem.png` and `stem.svg` with `f(path, png)`, each into a hidden temporary file
-/// renamed into place once complete: a failed plot leaves no half-written figure.
-fn both(stem: &Path, f: &dyn Fn(&Path, bool) -> DResult) -> Result<(), PlotError> {
-    register_fonts();
-    for (ext, png) in [("png", true), ("svg", false)] {
+/// Writes a rendered figure to `stem.png` and `stem.svg`, each under a temporary name
+/// renamed into place once complete (a failed write leaves no half-written figure).
+pub fn write(stem: &Path, figure: &Rendered) -> Result<(), PlotError> {
+    for (ext, bytes) in figure {
         let p = stem.with_extension(ext);
-        let name = stem
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        // The backend picks the image format from the extension, so it stays last.
-        let tmp = stem.with_file_name(format!(".{name}.tmp.{ext}"));
-        let result = f(&tmp, png).and_then(|()| Ok(std::fs::rename(&tmp, &p)?));
-        if let Err(e) = result {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(PlotError::Draw {
-                path: p.display().to_string(),
-                message: e.to_string(),
-            });
-        }
+        crate::output::write_atomic(&p, bytes).map_err(|e| PlotError::Draw {
+            path: p.display().to_string(),
+            message: e.to_string(),
+        })?;
     }
     Ok(())
 }
