@@ -567,6 +567,8 @@ pub struct Map<'a> {
     pub extent: [f64; 4],
     /// The points; those outside the frame are not drawn.
     pub points: &'a [MapPoint],
+    /// Context drawn first, as small grey dots (e.g. the impacts not selected).
+    pub background: &'a [(f64, f64)],
     /// Colour-bar label.
     pub value_label: &'a str,
     /// Top of the colour scale (its bottom is 0).
@@ -575,6 +577,8 @@ pub struct Map<'a> {
     pub kinds: (&'a str, &'a str),
     /// A marked place `(x, y, label)`, drawn as a cross.
     pub cross: Option<(f64, f64, &'a str)>,
+    /// Rectangles `[x0, x1, y0, y1]` drawn as outlines, with their legend labels.
+    pub outlines: &'a [([f64; 4], &'a str)],
 }
 
 /// One panel of grouped bars, for [`map_with_bars`].
@@ -599,6 +603,20 @@ pub fn map_with_bars(
     panels: &[BarPanel<'_>],
 ) -> Result<(), PlotError> {
     draw_both!(stem, (1400, 760), draw_map_with_bars(title, map, panels))
+}
+
+/// [`map_with_bars`] rendered in memory.
+pub fn render_map_with_bars(
+    title: &str,
+    map: &Map<'_>,
+    panels: &[BarPanel<'_>],
+) -> Result<Rendered, PlotError> {
+    render_both!((1400, 760), draw_map_with_bars(title, map, panels)).map_err(|message| {
+        PlotError::Draw {
+            path: title.to_string(),
+            message,
+        }
+    })
 }
 
 fn draw_map_with_bars<DB: DrawingBackend>(
@@ -634,6 +652,32 @@ where
     let vmax = m.value_max.max(1e-300);
     let colour = |v: f64| ViridisRGB.get_color((v / vmax).clamp(0.0, 1.0) as f32);
     let inside = |q: &&MapPoint| q.x >= x0 && q.x <= x1 && q.y >= y0 && q.y <= y1;
+    if !m.background.is_empty() {
+        let grey = BLACK.mix(0.25);
+        c.draw_series(
+            m.background
+                .iter()
+                .filter(|q| q.0 >= x0 && q.0 <= x1 && q.1 >= y0 && q.1 <= y1)
+                .map(|&q| Circle::new(q, 2, grey.filled())),
+        )?
+        .label("all impacts")
+        .legend(move |(x, y)| Circle::new((x + 7, y), 2, grey.filled()));
+    }
+    for (k, (r, label)) in m.outlines.iter().enumerate() {
+        let colour = COLORS[(k + 3) % COLORS.len()];
+        let corners = vec![
+            (r[0], r[2]),
+            (r[1], r[2]),
+            (r[1], r[3]),
+            (r[0], r[3]),
+            (r[0], r[2]),
+        ];
+        c.draw_series([PathElement::new(corners, colour.stroke_width(2))])?
+            .label(*label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 14, y)], colour.stroke_width(2))
+            });
+    }
     // Small points when there are many.
     let r = if m.points.len() > 2000 { 2 } else { 3 };
     // Rings first, so the filled points stay visible where both fall; within each kind
@@ -686,7 +730,10 @@ where
             )
         });
     }
-    let labelled = m.cross.is_some() || m.points.iter().any(|q| inside(&q));
+    let labelled = m.cross.is_some()
+        || !m.outlines.is_empty()
+        || !m.background.is_empty()
+        || m.points.iter().any(|q| inside(&q));
     if labelled {
         c.configure_series_labels()
             .position(SeriesLabelPosition::UpperLeft)

@@ -1,5 +1,6 @@
 //! `peenflow run` draws impacts.png / impacts.svg: where the shots hit, coloured by
-//! normal impact speed, and the histograms of normal speed and impact angle.
+//! normal impact speed, and the histograms of normal speed and impact angle;
+//! `peenflow export` draws selection.png / selection.svg: the selected impacts over all.
 
 mod common;
 use common::*;
@@ -102,4 +103,77 @@ fn a_run_draws_where_and_how_fast_the_shots_hit() {
         assert!(!svg.contains(label), "a legend entry for no rebound hits");
     }
     assert!(svg.contains("\nfirst hit\n") && svg.contains("\nfirst hits\n"));
+}
+
+#[test]
+fn an_export_draws_its_selection_against_every_impact() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let o = peenflow(&["run", "--out", "run", "-q"], t);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(t.join("run/summary.json")).unwrap()).unwrap();
+    let all = summary["impacts"].as_u64().unwrap();
+    // (outline colour, legend) of the --window and of the FE target block.
+    let (window, block) = ("#FF7F0E", "#9467BD");
+    let outlines = |svg: &str, colour: &str| {
+        svg.matches(&format!(
+            "<polyline fill=\"none\" opacity=\"1\" stroke=\"{colour}\""
+        ))
+        .count()
+    };
+    for (out, formats, with_block) in [("csv", "csv", false), ("deck", "csv,calculix", true)] {
+        let o = peenflow(
+            &[
+                "export",
+                "run/impacts.h5",
+                "-f",
+                formats,
+                "--window",
+                "-3,-3,3,3",
+                "--target-material",
+                "A5052",
+                "-o",
+                out,
+            ],
+            t,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(stdout.contains("selection.png") && stdout.contains("selection.svg"));
+        let dir = t.join(out);
+        let selected = fs::read_to_string(dir.join("selected_impacts.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            - 1;
+        assert!(
+            selected > 5 && (selected as u64) < all,
+            "{selected} of {all}"
+        );
+        let svg = fs::read_to_string(dir.join("selection.svg")).unwrap();
+        assert!(svg.contains(&format!(": {selected} of {all} impacts selected")));
+        // Every selected impact in colour (the frame holds the window), every impact of
+        // the run in grey behind them where the frame reaches.
+        let coloured = circles(&svg, "3");
+        assert_eq!(coloured.len(), selected);
+        assert!(coloured.iter().all(|c| c.1 != "#000000"));
+        let grey = circles(&svg, "2");
+        assert!(
+            grey.len() >= selected && grey.len() as u64 <= all + 1,
+            "{}",
+            grey.len()
+        );
+        // The window's outline (and its legend line); the target block's only with a deck.
+        assert_eq!(outlines(&svg, window), 2);
+        assert_eq!(outlines(&svg, block), if with_block { 2 } else { 0 });
+        let png = fs::read(dir.join("selection.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+    // Written with the other files: an existing picture is refused without --force.
+    fs::remove_file(t.join("csv/selected_impacts.csv")).unwrap();
+    let o = peenflow(&["export", "run/impacts.h5", "-f", "csv", "-o", "csv"], t);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("selection.png: exists"));
+    assert!(!t.join("csv/selected_impacts.csv").exists());
 }

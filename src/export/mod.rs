@@ -67,6 +67,9 @@ pub enum ExportError {
     /// Writing failed.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// Drawing the selection's picture failed.
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
     /// Template file unreadable.
     #[error("{path}: cannot read the template: {source}")]
     Template {
@@ -200,6 +203,11 @@ pub fn export(
             Format::Deck(_) => {}
         }
     }
+    // Rectangles on the selection's picture, mm.
+    let mut outlines: Vec<([f64; 4], &str)> = Vec::new();
+    if let Some([x0, y0, x1, y1]) = req.selection.window {
+        outlines.push(([x0, x1, y0, y1].map(|v| v * 1e3), "--window"));
+    }
     if !decks.is_empty() {
         let target_material = deck_target(scene, req.target_material.as_deref())?;
         let settings = DeckSettings {
@@ -236,6 +244,25 @@ pub fn export(
             req.out.join("fe_model.vtu"),
             vtk::mesh_vtu(&model.mesh, &["ALL"]).into_bytes(),
         ));
+        // The target block in specimen coordinates: deck units about the model origin.
+        let e = &model.target.extent;
+        let mm = 1e3 / model.units.length_factor;
+        let [ox, oy] = model.origin;
+        outlines.push((
+            [e[0] + ox, e[1] + ox, e[2] + oy, e[3] + oy].map(|v| v * mm),
+            "FE target block",
+        ));
+    }
+    let effects = scene.effects();
+    let picture = crate::record::figure::selection(
+        &scene.title,
+        impacts,
+        &selected,
+        &outlines,
+        (effects.drag || effects.lateral_force).then_some((0.0, 0.0)),
+    )?;
+    for (ext, bytes) in picture {
+        files.push((req.out.join(format!("selection.{ext}")), bytes));
     }
     if !req.force
         && let Some((p, _)) = files.iter().find(|(p, _)| p.exists())

@@ -45,61 +45,213 @@ struct Sampled {
     first: bool,
 }
 
-/// Collects a run's impacts for its picture (see the module docs).
-#[derive(Debug, Clone)]
-pub struct ImpactFigure {
-    sample: Vec<Sampled>,
-    stride: u64,
-    seen: u64,
-    /// Fine normal-speed counts, `[first hits, rebound hits]`.
-    speed: [Vec<u64>; 2],
-    speed_overflow: [u64; 2],
-    /// One-degree impact-angle counts.
-    angle: [[u64; 90]; 2],
-}
-
-impl Default for ImpactFigure {
-    fn default() -> Self {
-        ImpactFigure {
-            sample: Vec::new(),
-            stride: 1,
-            seen: 0,
-            speed: [vec![0; SPEED_FINE_BINS], vec![0; SPEED_FINE_BINS]],
-            speed_overflow: [0; 2],
-            angle: [[0; 90]; 2],
+impl Sampled {
+    fn of(i: &Impact) -> Sampled {
+        Sampled {
+            x: i.x_m * 1e3,
+            y: i.y_m * 1e3,
+            normal: i.normal_speed_m_s,
+            first: i.first_hit == 1,
         }
     }
+}
+
+/// Every impact up to [`MAP_POINTS`], then every second, fourth, ... one.
+#[derive(Debug, Clone)]
+struct Thinned {
+    items: Vec<Sampled>,
+    stride: u64,
+    seen: u64,
+}
+
+impl Default for Thinned {
+    fn default() -> Self {
+        Thinned {
+            items: Vec::new(),
+            stride: 1,
+            seen: 0,
+        }
+    }
+}
+
+impl Thinned {
+    fn offer(&mut self, i: &Impact) {
+        if self.seen.is_multiple_of(self.stride) {
+            self.items.push(Sampled::of(i));
+            if self.items.len() > MAP_POINTS {
+                // Keep every second one: the sample stays every `stride`-th impact.
+                let mut k = 0;
+                self.items.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                self.stride *= 2;
+            }
+        }
+        self.seen += 1;
+    }
+
+    /// "N impacts", or "1 in S of N impacts (M drawn)".
+    fn describe(&self) -> String {
+        if self.stride > 1 {
+            format!(
+                "1 in {} of {} impacts ({} drawn)",
+                self.stride,
+                self.seen,
+                self.items.len()
+            )
+        } else {
+            plural(self.seen, "impact")
+        }
+    }
+
+    fn points(&self) -> Vec<MapPoint> {
+        self.items
+            .iter()
+            .map(|s| MapPoint {
+                x: s.x,
+                y: s.y,
+                value: s.normal,
+                filled: s.first,
+            })
+            .collect()
+    }
+}
+
+/// Fine histograms of one group of impacts.
+#[derive(Debug, Clone)]
+struct Counts {
+    speed: Vec<u64>,
+    overflow: u64,
+    angle: [u64; 90],
+}
+
+impl Default for Counts {
+    fn default() -> Self {
+        Counts {
+            speed: vec![0; SPEED_FINE_BINS],
+            overflow: 0,
+            angle: [0; 90],
+        }
+    }
+}
+
+impl Counts {
+    fn add(&mut self, i: &Impact) {
+        let k = (i.normal_speed_m_s.max(0.0) / SPEED_FINE) as usize;
+        match self.speed.get_mut(k) {
+            Some(c) => *c += 1,
+            None => self.overflow += 1,
+        }
+        self.angle[i.angle_deg.clamp(0.0, 89.0) as usize] += 1;
+    }
+
+    fn total(&self) -> u64 {
+        self.angle.iter().sum()
+    }
+}
+
+/// The two histogram panels' data: normal speed and impact angle, one bar set per group.
+struct Histograms {
+    speed_title: String,
+    speed_axis: String,
+    speed_edges: Vec<String>,
+    speed_bars: Vec<Bars>,
+    angle_edges: Vec<String>,
+    angle_bars: Vec<Bars>,
+    y_label: &'static str,
+}
+
+impl Histograms {
+    /// Bars of `groups` (name, counts), as counts or, with `share`, as per cent of each
+    /// group.
+    fn of(groups: &[(&str, &Counts)], share: bool) -> Histograms {
+        let scale = |c: &Counts| {
+            if share {
+                100.0 / c.total().max(1) as f64
+            } else {
+                1.0
+            }
+        };
+        // Normal speed: bars up to the fastest impact within the fine bins.
+        let top = groups
+            .iter()
+            .filter_map(|g| g.1.speed.iter().rposition(|&c| c > 0))
+            .max()
+            .map_or(1, |i| i + 1);
+        let w = bar_width(top);
+        let nbars = top.div_ceil(w);
+        let bars = |fine: &dyn Fn(&Counts) -> &[u64], merge: usize, n: usize| -> Vec<Bars> {
+            groups
+                .iter()
+                .map(|(name, c)| Bars {
+                    name: name.to_string(),
+                    values: merged(fine(c), merge, n)
+                        .into_iter()
+                        .map(|v| v * scale(c))
+                        .collect(),
+                })
+                .collect()
+        };
+        let overflow: u64 = groups.iter().map(|g| g.1.overflow).sum();
+        Histograms {
+            speed_title: if overflow > 0 {
+                format!(
+                    "Normal impact speed ({overflow} above {} m/s not shown)",
+                    label(SPEED_FINE * SPEED_FINE_BINS as f64)
+                )
+            } else {
+                "Normal impact speed".to_string()
+            },
+            speed_axis: format!(
+                "normal speed, m/s ({} m/s bins, lower edge)",
+                label(w as f64 * SPEED_FINE)
+            ),
+            speed_edges: (0..nbars)
+                .map(|b| label(b as f64 * w as f64 * SPEED_FINE))
+                .collect(),
+            speed_bars: bars(&|c| &c.speed, w, nbars),
+            angle_edges: (0..18).map(|b| (5 * b).to_string()).collect(),
+            angle_bars: bars(&|c| &c.angle, 5, 18),
+            y_label: if share {
+                "share of impacts, %"
+            } else {
+                "impacts"
+            },
+        }
+    }
+
+    fn panels(&self) -> [BarPanel<'_>; 2] {
+        [
+            BarPanel {
+                title: &self.speed_title,
+                labels: (&self.speed_axis, self.y_label),
+                categories: &self.speed_edges,
+                bars: &self.speed_bars,
+            },
+            BarPanel {
+                title: "Impact angle from the normal",
+                labels: ("angle, degrees (5-degree bins, lower edge)", self.y_label),
+                categories: &self.angle_edges,
+                bars: &self.angle_bars,
+            },
+        ]
+    }
+}
+
+/// Collects a run's impacts for its picture (see the module docs).
+#[derive(Debug, Clone, Default)]
+pub struct ImpactFigure {
+    sample: Thinned,
+    /// `[first hits, rebound hits]`.
+    counts: [Counts; 2],
 }
 
 impl RunSink for ImpactFigure {
     fn impacts(&mut self, batch: &[Impact]) {
         for i in batch {
-            let kind = usize::from(i.first_hit != 1);
-            let k = (i.normal_speed_m_s.max(0.0) / SPEED_FINE) as usize;
-            match self.speed[kind].get_mut(k) {
-                Some(c) => *c += 1,
-                None => self.speed_overflow[kind] += 1,
-            }
-            let a = i.angle_deg.clamp(0.0, 89.0) as usize;
-            self.angle[kind][a] += 1;
-            if self.seen.is_multiple_of(self.stride) {
-                self.sample.push(Sampled {
-                    x: i.x_m * 1e3,
-                    y: i.y_m * 1e3,
-                    normal: i.normal_speed_m_s,
-                    first: i.first_hit == 1,
-                });
-                if self.sample.len() > MAP_POINTS {
-                    // Keep every second one: the sample stays every `stride`-th impact.
-                    let mut k = 0;
-                    self.sample.retain(|_| {
-                        k += 1;
-                        k % 2 == 1
-                    });
-                    self.stride *= 2;
-                }
-            }
-            self.seen += 1;
+            self.counts[usize::from(i.first_hit != 1)].add(i);
+            self.sample.offer(i);
         }
     }
 
@@ -137,36 +289,35 @@ fn label(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-impl ImpactFigure {
-    /// The square frame `[x0, x1, y0, y1]` (mm) about `centre` (the middle of the
-    /// sampled impacts when `None`), and the sampled impacts outside it.
-    fn frame(&self, centre: Option<(f64, f64)>) -> ([f64; 4], usize) {
-        let (cx, cy) = centre.unwrap_or_else(|| {
-            let mid = |f: fn(&Sampled) -> f64| {
-                let mut v: Vec<f64> = self.sample.iter().map(f).collect();
-                v.sort_by(f64::total_cmp);
-                v.get(v.len() / 2).copied().unwrap_or(0.0)
-            };
-            (mid(|s| s.x), mid(|s| s.y))
-        });
-        let mut d: Vec<f64> = self
-            .sample
-            .iter()
-            .map(|s| (s.x - cx).abs().max((s.y - cy).abs()))
-            .collect();
-        d.sort_by(f64::total_cmp);
-        let half = match d.len() {
-            0 => 1.0,
-            n => {
-                let framed = d[((FRAMED * n as f64).ceil() as usize).clamp(1, n) - 1];
-                // A margin of a fifth, but no wider than the farthest impact needs.
-                (1.2 * framed).min(1.05 * d[n - 1]).max(0.5)
-            }
+/// The square frame `[x0, x1, y0, y1]` (mm) about `centre` (the middle of `points` when
+/// `None`) holding the nearest [`FRAMED`] of them with a margin, and the points outside.
+fn frame(points: &[Sampled], centre: Option<(f64, f64)>) -> ([f64; 4], usize) {
+    let (cx, cy) = centre.unwrap_or_else(|| {
+        let mid = |f: fn(&Sampled) -> f64| {
+            let mut v: Vec<f64> = points.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(0.0)
         };
-        let outside = d.iter().filter(|&&v| v > half).count();
-        ([cx - half, cx + half, cy - half, cy + half], outside)
-    }
+        (mid(|s| s.x), mid(|s| s.y))
+    });
+    let mut d: Vec<f64> = points
+        .iter()
+        .map(|s| (s.x - cx).abs().max((s.y - cy).abs()))
+        .collect();
+    d.sort_by(f64::total_cmp);
+    let half = match d.len() {
+        0 => 1.0,
+        n => {
+            let framed = d[((FRAMED * n as f64).ceil() as usize).clamp(1, n) - 1];
+            // A margin of a fifth, but no wider than the farthest impact needs.
+            (1.2 * framed).min(1.05 * d[n - 1]).max(0.5)
+        }
+    };
+    let outside = d.iter().filter(|&&v| v > half).count();
+    ([cx - half, cx + half, cy - half, cy + half], outside)
+}
 
+impl ImpactFigure {
     /// Writes `stem.png` and `stem.svg`. `axis_foot`: where the jet axis meets the
     /// specimen (mm), when the air jet acts on the shots.
     pub fn write(
@@ -175,75 +326,16 @@ impl ImpactFigure {
         title: &str,
         axis_foot: Option<(f64, f64)>,
     ) -> Result<(), plot::PlotError> {
-        let count = |h: &[u64]| h.iter().sum::<u64>();
-        let firsts = count(&self.speed[0]) + self.speed_overflow[0];
-        let rebounds = count(&self.speed[1]) + self.speed_overflow[1];
-        let kinds = [("first hits", firsts), ("rebound hits", rebounds)];
-        let shown: Vec<usize> = (0..2).filter(|&k| kinds[k].1 > 0 || k == 0).collect();
-
-        // Normal speed: bars up to the fastest impact within the fine bins.
-        let top = (0..2)
-            .filter_map(|k| self.speed[k].iter().rposition(|&c| c > 0))
-            .max()
-            .map_or(1, |i| i + 1);
-        let w = bar_width(top);
-        let nbars = top.div_ceil(w);
-        let speed_bars: Vec<Bars> = shown
-            .iter()
-            .map(|&k| Bars {
-                name: kinds[k].0.into(),
-                values: merged(&self.speed[k], w, nbars),
-            })
-            .collect();
-        let speed_edges: Vec<String> = (0..nbars)
-            .map(|b| label(b as f64 * w as f64 * SPEED_FINE))
-            .collect();
-        let overflow = self.speed_overflow[0] + self.speed_overflow[1];
-        let speed_title = if overflow > 0 {
-            format!(
-                "Normal impact speed ({overflow} above {} m/s not shown)",
-                label(SPEED_FINE * SPEED_FINE_BINS as f64)
-            )
-        } else {
-            "Normal impact speed".to_string()
-        };
-        let speed_axis = format!(
-            "normal speed, m/s ({} m/s bins, lower edge)",
-            label(w as f64 * SPEED_FINE)
-        );
-
-        // Angle from the normal, 5-degree bars.
-        let angle_bars: Vec<Bars> = shown
-            .iter()
-            .map(|&k| Bars {
-                name: kinds[k].0.into(),
-                values: merged(&self.angle[k], 5, 18),
-            })
-            .collect();
-        let angle_edges: Vec<String> = (0..18).map(|b| (5 * b).to_string()).collect();
-
-        let (extent, outside) = self.frame(axis_foot);
-        let points: Vec<MapPoint> = self
-            .sample
-            .iter()
-            .map(|s| MapPoint {
-                x: s.x,
-                y: s.y,
-                value: s.normal,
-                filled: s.first,
-            })
-            .collect();
-        let value_max = self.sample.iter().map(|s| s.normal).fold(0.0, f64::max);
-        let what = if self.stride > 1 {
-            format!(
-                "1 in {} of {} impacts ({} drawn)",
-                self.stride,
-                self.seen,
-                self.sample.len()
-            )
-        } else {
-            plural(self.seen, "impact")
-        };
+        let [firsts, rebounds] = [0, 1].map(|k| self.counts[k].total());
+        let mut groups = vec![("first hits", &self.counts[0])];
+        if rebounds > 0 {
+            groups.push(("rebound hits", &self.counts[1]));
+        }
+        let hist = Histograms::of(&groups, false);
+        let (extent, outside) = frame(&self.sample.items, axis_foot);
+        let points = self.sample.points();
+        let value_max = points.iter().map(|p| p.value).fold(0.0, f64::max);
+        let what = self.sample.describe();
         let map_title = if outside > 0 {
             format!("Where the shots hit: {what}, {outside} outside the frame")
         } else {
@@ -254,37 +346,97 @@ impl ImpactFigure {
             labels: ("x, mm", "y, mm"),
             extent,
             points: &points,
+            background: &[],
             value_label: "normal speed, m/s",
             value_max,
             kinds: ("first hit", "rebound hit"),
             cross: axis_foot.map(|(x, y)| (x, y, "jet axis")),
+            outlines: &[],
         };
         let whole = format!(
             "{title}: {} ({}, {})",
-            plural(self.seen, "impact"),
+            plural(self.sample.seen, "impact"),
             plural(firsts, "first hit"),
             plural(rebounds, "rebound hit")
         );
-        plot::map_with_bars(
-            stem,
-            &whole,
-            &map,
-            &[
-                BarPanel {
-                    title: &speed_title,
-                    labels: (&speed_axis, "impacts"),
-                    categories: &speed_edges,
-                    bars: &speed_bars,
-                },
-                BarPanel {
-                    title: "Impact angle from the normal",
-                    labels: ("angle, degrees (5-degree bins, lower edge)", "impacts"),
-                    categories: &angle_edges,
-                    bars: &angle_bars,
-                },
-            ],
-        )
+        plot::map_with_bars(stem, &whole, &map, &hist.panels())
     }
+}
+
+/// The picture of an export's selection (`selection.png` / `.svg`): the selected impacts
+/// coloured by normal speed over every impact of the file in grey, with `outlines`
+/// (rectangles in mm: the `--window`, the FE target block) and the jet axis' foot;
+/// beside them the shares of normal speed and impact angle, selected against all, which
+/// show how representative the selection is.
+pub fn selection(
+    title: &str,
+    all: &[Impact],
+    selected: &[Impact],
+    outlines: &[([f64; 4], &str)],
+    axis_foot: Option<(f64, f64)>,
+) -> Result<plot::Rendered, plot::PlotError> {
+    let (mut every, mut chosen) = (Thinned::default(), Thinned::default());
+    let (mut c_all, mut c_sel) = (Counts::default(), Counts::default());
+    for i in all {
+        every.offer(i);
+        c_all.add(i);
+    }
+    for i in selected {
+        chosen.offer(i);
+        c_sel.add(i);
+    }
+    let hist = Histograms::of(&[("all impacts", &c_all), ("selected", &c_sel)], true);
+    // The selection's own frame, widened to hold the outlines, then a quarter more for
+    // the impacts around it.
+    let ([x0, x1, y0, y1], _) = frame(&chosen.items, None);
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let half = outlines
+        .iter()
+        .flat_map(|(r, _)| {
+            [
+                (r[0] - cx).abs(),
+                (r[1] - cx).abs(),
+                (r[2] - cy).abs(),
+                (r[3] - cy).abs(),
+            ]
+        })
+        .fold(0.5 * (x1 - x0), f64::max)
+        * 1.25;
+    let extent = [cx - half, cx + half, cy - half, cy + half];
+    let inside =
+        |s: &&Sampled| s.x >= extent[0] && s.x <= extent[1] && s.y >= extent[2] && s.y <= extent[3];
+    let outside = chosen.items.iter().filter(|s| !inside(s)).count();
+    let background: Vec<(f64, f64)> = every.items.iter().map(|s| (s.x, s.y)).collect();
+    let points = chosen.points();
+    let value_max = points.iter().map(|p| p.value).fold(0.0, f64::max);
+    let map_title = format!(
+        "Selected: {}{}; grey: all {}",
+        chosen.describe(),
+        if outside > 0 {
+            format!(", {outside} outside the frame")
+        } else {
+            String::new()
+        },
+        every.describe()
+    );
+    let map = Map {
+        title: &map_title,
+        labels: ("x, mm", "y, mm"),
+        extent,
+        points: &points,
+        background: &background,
+        value_label: "normal speed, m/s",
+        value_max,
+        kinds: ("first hit", "rebound hit"),
+        cross: axis_foot.map(|(x, y)| (x, y, "jet axis")),
+        outlines,
+    };
+    let whole = format!(
+        "{title}: {} of {} selected",
+        selected.len(),
+        plural(all.len() as u64, "impact")
+    );
+    plot::render_map_with_bars(&whole, &map, &hist.panels())
 }
 
 #[cfg(test)]
@@ -319,22 +471,44 @@ mod tests {
         for part in batch.chunks(777) {
             f.impacts(part);
         }
-        assert_eq!(f.seen, n as u64);
-        assert!(f.sample.len() > MAP_POINTS / 2 && f.sample.len() <= MAP_POINTS);
-        assert_eq!(f.stride, 4);
-        for (j, s) in f.sample.iter().enumerate() {
-            let k = j as u64 * f.stride;
+        assert_eq!(f.sample.seen, n as u64);
+        assert!(f.sample.items.len() > MAP_POINTS / 2 && f.sample.items.len() <= MAP_POINTS);
+        assert_eq!(f.sample.stride, 4);
+        for (j, s) in f.sample.items.iter().enumerate() {
+            let k = j as u64 * f.sample.stride;
             assert!(
                 (s.x - k as f64 * 1e-3).abs() < 1e-9,
                 "sample {j} is impact {k}"
             );
         }
-        let all: u64 = f.speed.iter().flatten().sum::<u64>();
+        let all: u64 = f.counts.iter().flat_map(|c| c.speed.iter()).sum::<u64>();
         assert_eq!(all, n as u64);
-        let firsts: u64 = f.angle[0].iter().sum();
+        let firsts: u64 = f.counts[0].angle.iter().sum();
         assert_eq!(firsts, (0..n).filter(|k| k % 3 != 0).count() as u64);
         // Every impact at atan(0.3) = 16.7 degrees.
-        assert_eq!(f.angle[0][16] + f.angle[1][16], n as u64);
+        assert_eq!(f.counts[0].angle[16] + f.counts[1].angle[16], n as u64);
+    }
+
+    #[test]
+    fn shares_add_up_to_a_hundred_per_group() {
+        let (mut a, mut b) = (Counts::default(), Counts::default());
+        for k in 0..1000u32 {
+            a.add(&impact(k, 0.0, (k % 97) as f64, true));
+            if k % 7 == 0 {
+                b.add(&impact(k, 0.0, 50.0 + (k % 13) as f64, k % 2 == 0));
+            }
+        }
+        let h = Histograms::of(&[("all", &a), ("some", &b)], true);
+        for bars in [&h.speed_bars, &h.angle_bars] {
+            for g in bars {
+                let sum: f64 = g.values.iter().sum();
+                assert!((sum - 100.0).abs() < 1e-9, "{}: {sum}", g.name);
+            }
+        }
+        // 96 m/s at most: 5 m/s bars (fine bins of 0.1 m/s, 20 bars).
+        assert_eq!(h.speed_edges.len(), 20);
+        assert_eq!(h.speed_edges[3], "15");
+        assert_eq!(h.y_label, "share of impacts, %");
     }
 
     #[test]
@@ -361,7 +535,7 @@ mod tests {
             })
             .collect();
         f.impacts(&batch);
-        let (e, outside) = f.frame(Some((0.0, 0.0)));
+        let (e, outside) = frame(&f.sample.items, Some((0.0, 0.0)));
         assert_eq!(outside, 1);
         assert!((e[1] - 6.0).abs() < 1e-12, "{e:?}"); // 1.2 x 5 mm
         assert_eq!(e[0], -e[1]);
@@ -371,7 +545,7 @@ mod tests {
             g.impacts(&batch[..50]);
             g
         };
-        let (e, outside) = g.frame(Some((0.0, 0.0)));
+        let (e, outside) = frame(&g.sample.items, Some((0.0, 0.0)));
         assert_eq!(outside, 0);
         assert!((e[1] - 5.25).abs() < 1e-12, "{e:?}");
     }
