@@ -290,13 +290,7 @@ where
 {
     root.fill(&WHITE)?;
     let n = categories.len().max(1);
-    let y1 = bars
-        .iter()
-        .flat_map(|b| b.values.iter())
-        .cloned()
-        .fold(0.0, f64::max)
-        .max(1e-12)
-        * 1.15;
+    let (corner, y1) = bar_legend_place(bars, n, root.dim_in_pixel().1);
     let mut c = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 22))
         .margin(12)
@@ -313,6 +307,8 @@ where
         .all(|v| v.fract() == 0.0);
     c.configure_mesh()
         .disable_x_mesh()
+        .light_line_style(WHITE)
+        .bold_line_style(BLACK.mix(0.12))
         .x_desc(xl)
         .y_desc(yl)
         .x_labels(n + 1)
@@ -346,12 +342,43 @@ where
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], color.filled()));
     }
     c.configure_series_labels()
+        .position(corner)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
         .draw()?;
     root.present()?;
     Ok(())
+}
+
+/// Where a bar chart's legend goes and the top of its value axis: the upper corner
+/// above the lower bars, with the axis raised so that no bar reaches into the legend's
+/// band (`height` is the chart area's height in pixels; the legend is about 20 px per
+/// entry and covers about a third of the bins on its side).
+fn bar_legend_place(bars: &[Bars], n: usize, height: u32) -> (SeriesLabelPosition, f64) {
+    let side = |range: std::ops::Range<usize>| {
+        bars.iter()
+            .flat_map(|b| b.values.get(range.clone()).unwrap_or(&[]).iter())
+            .cloned()
+            .fold(0.0, f64::max)
+    };
+    let third = n.div_ceil(3).min(n);
+    let (left, right) = (side(0..third), side(n - third..n));
+    let highest = bars
+        .iter()
+        .flat_map(|b| b.values.iter())
+        .cloned()
+        .fold(0.0, f64::max)
+        .max(1e-12);
+    let (corner, under) = if right <= left {
+        (SeriesLabelPosition::UpperRight, right)
+    } else {
+        (SeriesLabelPosition::UpperLeft, left)
+    };
+    // The plot's height: the area less its caption, margins and x labels.
+    let plot = (f64::from(height) - 110.0).max(60.0);
+    let band = ((bars.len() as f64 * 20.0 + 24.0) / plot).min(0.6);
+    (corner, (highest * 1.15).max(under / (1.0 - band) * 1.05))
 }
 
 /// Writes a rendered figure to `stem.png` and `stem.svg`, each under a temporary name
@@ -791,6 +818,40 @@ mod tests {
         let (bold, light) = log_ticks(1.5e-3, 5.5e-3);
         assert_eq!(bold.len(), 4);
         assert!(light.is_empty());
+    }
+
+    #[test]
+    fn a_bar_charts_legend_sits_above_the_lower_bars() {
+        let set = |v: &[f64]| Bars {
+            name: String::new(),
+            values: v.to_vec(),
+        };
+        // The tall bar on the right (the default scene's speeds): the legend goes left,
+        // and the left bars stay below its band of a 370 px panel (260 px of plot).
+        let tall_right = [
+            set(&[1.0, 0.0, 1.0, 1.0, 2.0, 14.0]),
+            set(&[0.0, 4.0, 3.0, 1.0, 0.0, 0.0]),
+        ];
+        let (corner, top) = bar_legend_place(&tall_right, 6, 370);
+        assert_eq!(format!("{corner:?}"), "UpperLeft");
+        let band = (2.0 * 20.0 + 24.0) / 260.0;
+        assert!(
+            4.0 < top * (1.0 - band),
+            "left bars 4 reach the legend: top {top}"
+        );
+        assert!(
+            (top - 14.0 * 1.15).abs() < 1e-12,
+            "no more room than needed: {top}"
+        );
+        // The tall bar on the left (angles): right, and the axis raised only as needed.
+        let tall_left = [set(&[15.0, 1.0, 1.0, 1.0, 1.0, 13.0])];
+        let (corner, top) = bar_legend_place(&tall_left, 6, 370);
+        assert_eq!(format!("{corner:?}"), "UpperRight");
+        let band = (20.0 + 24.0) / 260.0;
+        assert!(
+            13.0 < top * (1.0 - band),
+            "right bar 13 reaches the legend: top {top}"
+        );
     }
 
     #[test]
