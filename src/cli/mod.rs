@@ -278,11 +278,6 @@ fn export(a: ExportArgs) -> Result<()> {
     {
         bail!("--time-window {}: give t0,t1 in ms with t1 > t0", listed(w));
     }
-    if a.elastic && formats.contains(&export::Format::Deck(export::deck::DeckFormat::Calculix)) {
-        eprintln!(
-            "peenflow: warning: CalculiX 2.20 crashes (segfault) on elastic-shot decks in our tests; rigid shots are the verified path (docs/fe-coupling.md)"
-        );
-    }
     let (file, scene) = export::read_impact_file(&a.impacts)?;
     let selection = Selection {
         window: a
