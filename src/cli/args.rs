@@ -201,8 +201,8 @@ pub struct ExportArgs {
     /// Element size under the impacts, mm (default: shot radius / 4).
     #[arg(long, allow_negative_numbers = true)]
     pub element_size_mm: Option<f64>,
-    /// Shot mesh resolution: cells along each edge of the mapped cube (default 6; measured
-    /// with ccx: 4 lets the finer target surface slip between the shot's nodes).
+    /// Shot mesh resolution: cells along each edge of the mapped cube (default 4 for rigid
+    /// shots, 6 for elastic ones; docs/fe-coupling.md has what ccx measured with each).
     #[arg(long)]
     pub shot_cells: Option<usize>,
     /// Output directory.
