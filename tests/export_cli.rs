@@ -67,7 +67,7 @@ fn export_bad_input_gets_one_line_and_no_output() {
         (
             "--element-size-mm",
             "-1",
-            "--element-size-mm -1: allowed > 0",
+            "--element-size-mm -1: allowed 0.001 mm or more",
         ),
     ] {
         fails_cleanly(
