@@ -17,7 +17,8 @@ use super::{Mesh, structured_hexes};
 /// 0.06 mm off the middle of its element column, and a normal 70 m/s impact in CalculiX
 /// rebounded with 1.3 m/s sideways; a node under the impact, meeting the shot's pole
 /// node, gave 3.4 m/s.) Overlapping zones make one fine region, graded as a whole:
-/// anchoring each of them would only add lines. Anchors closer than `h_fine / 2` to an
+/// anchoring each of them would only add lines; a zone reaching an end of the axis (the
+/// refined layer under the surface) is not anchored either. Anchors closer than `h_fine / 2` to an
 /// end or to an anchor already kept are dropped, so that no cell is much smaller than
 /// `h_fine`.
 pub fn graded_axis(
@@ -54,7 +55,9 @@ pub fn graded_axis(
     let mut centres = Vec::new();
     let mut reach = f64::NEG_INFINITY;
     for (k, &(a, b)) in sorted.iter().enumerate() {
-        let alone = a > reach && sorted.get(k + 1).is_none_or(|next| next.0 > b);
+        // A zone reaching an end of the axis (the layer under the surface) is no impact.
+        let alone =
+            a > reach && sorted.get(k + 1).is_none_or(|next| next.0 > b) && a > lo && b < hi;
         reach = reach.max(b);
         let c = 0.5 * (a + b);
         if alone {
@@ -182,6 +185,13 @@ mod tests {
         let zones = [(-0.9, -0.1), (0.05, 0.85), (0.07, 0.87)];
         let xs = graded_axis(-2.0, 3.0, &zones, 0.1, 1.5, 0.4);
         let has = |x: f64| xs.iter().any(|&l| (l - x).abs() < 1e-12);
+        // A layer at the end (the z axis under the surface): no anchors.
+        let zs = graded_axis(-1.0, 0.0, &[(-0.4, 0.0)], 0.1, 1.5, 0.4);
+        assert!(
+            !zs.iter()
+                .any(|&z| (z + 0.25).abs() < 1e-12 || (z + 0.15).abs() < 1e-12),
+            "{zs:?}"
+        );
         assert!(has(-0.55) && has(-0.45), "{xs:?}");
         assert!(!has(0.4) && !has(0.5) && !has(0.42) && !has(0.52), "{xs:?}");
         for w in xs.windows(2).filter(|w| w[0] > 0.05 && w[1] < 0.87) {
