@@ -18,9 +18,9 @@ use super::{Mesh, structured_hexes};
 /// rebounded with 1.3 m/s sideways; a node under the impact, meeting the shot's pole
 /// node, gave 3.4 m/s.) Overlapping zones make one fine region, graded as a whole:
 /// anchoring each of them would only add lines; a zone reaching an end of the axis (the
-/// refined layer under the surface) is not anchored either. Anchors closer than `h_fine / 2` to an
-/// end or to an anchor already kept are dropped, so that no cell is much smaller than
-/// `h_fine`.
+/// refined layer under the surface) is not anchored either. Anchors closer than
+/// `h_fine / 2` to an end or to an anchor already kept are dropped, so that no cell is
+/// much smaller than `h_fine`.
 pub fn graded_axis(
     lo: f64,
     hi: f64,
@@ -75,9 +75,9 @@ pub fn graded_axis(
         anchors.pop();
     }
     anchors.push(hi);
-    // Each segment: the cumulative `dx / h` on a fine sampling, inverted linearly. The
-    // sampling is mirrored about the segment's middle, so a symmetric spacing gives
-    // symmetric lines.
+    // Each segment: the cumulative `dx / h` on an even sampling, inverted linearly. Two
+    // segments that mirror each other are sampled alike, so a spacing symmetric about a
+    // lone impact gives lines symmetric about it.
     let mut xs = vec![lo];
     for w in anchors.windows(2) {
         let (a, b) = (w[0], w[1]);
