@@ -16,6 +16,7 @@
 use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::friction::{self, Tangential};
+use crate::contact::restitution::SpeedLaw;
 use crate::contact::{ContactSet, Friction, HertzLaw, PairContact, SpecimenContact, WallContact};
 use crate::counters::WorkCounters;
 use crate::export::vtk::SnapshotPoint;
@@ -114,6 +115,11 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
     let contacts = ContactSet {
         specimen: effects.specimen_contact.then(|| SpecimenContact {
             law: law(&scene.specimen_material, scene.restitution.shot_specimen),
+            by_speed: scene
+                .restitution
+                .shot_specimen_curve
+                .clone()
+                .map(|c| std::sync::Arc::new(SpeedLaw::new(c))),
         }),
         wall: effects.nozzle_wall_contact.then(|| WallContact {
             law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),

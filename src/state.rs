@@ -78,6 +78,10 @@ pub struct ShotState {
     pub specimen_contact_time: f64,
     /// Onset time of the current specimen contact, s.
     pub specimen_onset: f64,
+    /// Tsuji damping factor of the current specimen contact, set at its touch when the
+    /// restitution depends on the impact speed (`SpecimenContact::law_of`); unused
+    /// otherwise.
+    pub specimen_damping: f64,
     /// In contact with the nozzle wall.
     pub on_wall: bool,
     /// Onset time of the current wall contact, s.
@@ -139,6 +143,7 @@ impl ShotState {
             sliding: false,
             specimen_contact_time: 0.0,
             specimen_onset: 0.0,
+            specimen_damping: 0.0,
             on_wall: false,
             wall_onset: 0.0,
             specimen_xi: Vec3::zeros(),

@@ -546,7 +546,10 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
         ("no nozzle wall", Box::new(off(5))),
         (
             "no rebounds (shot-specimen restitution 0.05)",
-            Box::new(|s: &mut Scene| s.restitution.shot_specimen = 0.05),
+            Box::new(|s: &mut Scene| {
+                s.restitution.shot_specimen = 0.05;
+                s.restitution.shot_specimen_curve = None;
+            }),
         ),
         (
             "A5052 specimen (the experiments' material)",

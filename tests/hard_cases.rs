@@ -38,7 +38,10 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
             turbulence: None,
         },
         contacts: ContactSet {
-            specimen: specimen.map(|law| SpecimenContact { law }),
+            specimen: specimen.map(|law| SpecimenContact {
+                law,
+                by_speed: None,
+            }),
             wall: None,
             pair: pair.map(|law| PairContact { law }),
             friction: None,

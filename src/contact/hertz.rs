@@ -32,6 +32,17 @@ impl HertzLaw {
         }
     }
 
+    /// The same law with Tsuji damping factor `damping` (a contact whose restitution
+    /// depends on its impact speed, [`crate::contact::restitution`]).
+    #[inline]
+    pub fn with_damping(&self, damping: f64) -> Self {
+        HertzLaw {
+            restitution: f64::NAN,
+            damping,
+            ..*self
+        }
+    }
+
     /// Hertz stiffness `K = (4/3) E* sqrt(R*)`, N/m^(3/2), for effective radius `r_eff` (m).
     #[inline]
     pub fn stiffness(&self, r_eff: f64) -> f64 {

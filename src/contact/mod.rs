@@ -12,6 +12,7 @@ pub mod broad;
 pub mod friction;
 pub mod hertz;
 pub mod pair;
+pub mod restitution;
 pub mod specimen;
 pub mod table;
 pub mod wall;
@@ -23,7 +24,7 @@ pub use specimen::SpecimenContact;
 pub use wall::{Tube, WallContact, WallGeom};
 
 /// The enabled contacts. A disabled contact is `None`: no test, no neighbour search.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ContactSet {
     /// Shot-specimen contact.
     pub specimen: Option<SpecimenContact>,

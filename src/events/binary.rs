@@ -35,7 +35,7 @@ use crate::Vec3;
 use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::{self, HertzLaw};
 use crate::contact::table::{ContactTable, Course, SAMPLES};
-use crate::contact::{PairContact, effective_mass};
+use crate::contact::{PairContact, SpecimenContact, effective_mass};
 use crate::integrate::dopri::{DenseStep, Dopri5, step_factor};
 use crate::integrate::island::{
     AT_ONSET, MIN_CONTACT_SPEED, MIN_STEP, ONSET_STEP, first_contact_step, first_crossing_guided,
@@ -78,6 +78,9 @@ pub struct InProgress {
     pub onset: f64,
     /// Hertz duration estimate at the touch, s.
     pub contact_time: f64,
+    /// A specimen contact's damping factor (`ShotState::specimen_damping`), taken when
+    /// the restitution depends on the impact speed.
+    pub damping: f64,
 }
 
 /// How the contact went, for `n` shots (2: a pair, 1: a shot on the specimen; arrays
@@ -94,6 +97,8 @@ pub struct Outcome {
     pub at_onset: (Vec3, Vec3),
     /// Hertz duration estimate at the touch, s.
     pub contact_time: f64,
+    /// A specimen contact's Tsuji damping factor (`ShotState::specimen_damping`).
+    pub damping: f64,
     /// Start of the contact phase in this chunk (the touch, or the chunk's start), s.
     pub from: f64,
     /// Time the force reached zero (the kink), s, or the chunk's end if it did not:
@@ -520,6 +525,7 @@ impl Outcome {
             if self.fresh {
                 c.specimen_onset = self.onset;
                 c.specimen_contact_time = self.contact_time;
+                c.specimen_damping = self.damping;
                 c.hits += 1;
                 if c.hits == 1 {
                     c.steps_to_first_contact = Some(c.steps);
@@ -925,7 +931,7 @@ impl Contact<'_> {
 /// (`progress` `None`) or from `s`, until the shot leaves the plane or until `e`.
 #[allow(clippy::too_many_arguments)]
 pub fn resolve_specimen(
-    law: &HertzLaw,
+    sp: &SpecimenContact,
     table: Option<&ContactTable>,
     mu: f64,
     flight: &Flight,
@@ -938,7 +944,7 @@ pub fn resolve_specimen(
 ) -> Option<Outcome> {
     let r = a.radius;
     let m = a.mass;
-    let k = law.stiffness(r);
+    let k = sp.law.stiffness(r);
     let (onset, tc, from, (p_from, v_from)) = match progress {
         None => {
             if a.pos.z <= r {
@@ -955,10 +961,17 @@ pub fn resolve_specimen(
         }
         Some(pr) => (pr.onset, pr.contact_time, s, (a.pos, a.vel)),
     };
+    // The contact's law: with a restitution curve, the damping of its touch.
+    let law = &match (&sp.by_speed, progress) {
+        (None, _) => sp.law,
+        (Some(by_speed), None) => sp.law.with_damping(by_speed.damping(-v_from.z)),
+        (Some(_), Some(pr)) => sp.law.with_damping(pr.damping),
+    };
     let h_cap = tc / set.contact_steps;
     let mut out = Outcome {
         n: 1,
         onset,
+        damping: law.damping,
         fresh: progress.is_none(),
         at_onset: (p_from, v_from),
         contact_time: tc,
@@ -1107,6 +1120,14 @@ mod tests {
 
     fn law(e: f64) -> HertzLaw {
         HertzLaw::new(210e9, 0.3, 210e9, 0.3, e)
+    }
+
+    /// The flat specimen of `law`, one restitution at every speed.
+    fn flat(law: HertzLaw) -> SpecimenContact {
+        SpecimenContact {
+            law,
+            by_speed: None,
+        }
     }
 
     fn shot(pos: Vec3, vel: Vec3) -> Body {
@@ -1295,6 +1316,7 @@ mod tests {
     #[test]
     fn tabulated_specimen_impacts_match_the_integrator() {
         let l = law(0.7);
+        let sp = flat(l);
         let tb = ContactTable::new(l.damping);
         let set = Settings {
             tolerance: 1e-11,
@@ -1307,8 +1329,9 @@ mod tests {
                     Vec3::new(1e-3, 0.0, 1e-3),
                     Vec3::new(slant * speed, 0.0, -speed),
                 );
-                let go =
-                    |table| resolve_specimen(&l, table, 0.0, &flight, &a, None, 0.0, 1.0, 0.0, set);
+                let go = |table| {
+                    resolve_specimen(&sp, table, 0.0, &flight, &a, None, 0.0, 1.0, 0.0, set)
+                };
                 let (t, i) = (go(Some(&tb)).unwrap(), go(None).unwrap());
                 assert_eq!(t.steps, 0, "{speed} {slant}: not tabulated");
                 let (dp, dv) = (t.state[0].0 - i.state[0].0, t.state[0].1 - i.state[0].1);
@@ -1331,9 +1354,10 @@ mod tests {
             tolerance: 1e-8,
             contact_steps: 10.0,
         };
+        let sp = flat(l);
         let until = |e: f64| {
             resolve_specimen(
-                &l,
+                &sp,
                 None,
                 0.0,
                 &Flight { g: 0.0 },
@@ -1373,9 +1397,10 @@ mod tests {
         let progress = InProgress {
             onset: first.onset,
             contact_time: first.contact_time,
+            damping: first.damping,
         };
         let second = resolve_specimen(
-            &l,
+            &sp,
             None,
             0.0,
             &Flight { g: 0.0 },
@@ -1406,6 +1431,7 @@ mod tests {
         let progress = InProgress {
             onset: 0.0,
             contact_time: 1e-6,
+            damping: law(0.7).damping,
         };
         let hair = 1e-12;
         let a = shot(Vec3::new(0.0, 0.0, 5e-3), Vec3::new(0.0, 0.0, 49.0));
@@ -1439,7 +1465,7 @@ mod tests {
             Vec3::new(0.0, 0.0, -70.0),
         );
         let o = resolve_specimen(
-            &law(0.7),
+            &flat(law(0.7)),
             None,
             0.0,
             &flight,

@@ -57,6 +57,7 @@ impl Engine<'_> {
                         InProgress {
                             onset: p.onset,
                             contact_time: p.contact_time,
+                            damping: f64::NAN,
                         }
                     }
                     _ => return false,
@@ -65,6 +66,7 @@ impl Engine<'_> {
             [a] if cl.pairs.is_empty() && self.shots[*a].on_specimen => InProgress {
                 onset: self.shots[*a].specimen_onset,
                 contact_time: self.shots[*a].specimen_contact_time,
+                damping: self.shots[*a].specimen_damping,
             },
             _ => return false,
         };

@@ -687,7 +687,13 @@ impl<'a> Engine<'a> {
                 };
                 [
                     table(c.pair.as_ref().map(|p| &p.law)),
-                    table(c.specimen.as_ref().map(|s| &s.law)),
+                    // A restitution curve gives each contact its own damping: integrated.
+                    table(
+                        c.specimen
+                            .as_ref()
+                            .filter(|s| s.by_speed.is_none())
+                            .map(|s| &s.law),
+                    ),
                 ]
             },
             cells: CellList::default(),
@@ -1676,6 +1682,7 @@ impl<'a> Engine<'a> {
             let progress = binary::InProgress {
                 onset: pr.onset,
                 contact_time: pr.contact_time,
+                damping: f64::NAN,
             };
             on.push(([grp[pr.a as usize], grp[pr.b as usize]], progress));
         }
@@ -1684,6 +1691,7 @@ impl<'a> Engine<'a> {
             let progress = binary::InProgress {
                 onset: m.specimen_onset,
                 contact_time: m.specimen_contact_time,
+                damping: m.specimen_damping,
             };
             on.push(([k, k], progress));
         }
@@ -1802,7 +1810,7 @@ impl<'a> Engine<'a> {
                 set,
             ),
             [a] => binary::resolve_specimen(
-                &c.specimen.as_ref()?.law,
+                c.specimen.as_ref()?,
                 self.tables[1].as_ref(),
                 mu(|f| f.specimen),
                 &self.flight,

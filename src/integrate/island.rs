@@ -791,10 +791,11 @@ impl Ctx<'_> {
                     // the 10,000-shot stream, a quarter of the rejected trials
                     // (docs/performance-history.md, "Contacts unclamped up to their kink, session
                     // 35"). Friction takes the clamped load.
+                    let law = sp.law_of(m, v.z);
                     let f = if pushing.is_some_and(|p| p.specimen[i]) {
-                        sp.law.force_unclamped(k, m.body.mass, -gap, -v.z)
+                        law.force_unclamped(k, m.body.mass, -gap, -v.z)
                     } else {
-                        sp.law.force(k, m.body.mass, -gap, -v.z)
+                        law.force(k, m.body.mass, -gap, -v.z)
                     };
                     a.z += f / m.body.mass;
                     let f = f.max(0.0);
@@ -975,12 +976,13 @@ impl Ctx<'_> {
                 if gap < 0.0 {
                     on_specimen = true;
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                    let f_n = sp.law.force(k, mass, -gap, -v.z);
+                    let law = sp.law_of(m, v.z);
+                    let f_n = law.force(k, mass, -gap, -v.z);
                     let r_c = Vec3::new(0.0, 0.0, -(m.body.radius + 0.5 * gap));
                     let nz = Vec3::z();
                     let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
                     let k_t = friction::history_stiffness(g_s, k, -gap);
-                    let gamma = friction::history_damping(g_s, sp.law.damping, mass, k, -gap);
+                    let gamma = friction::history_damping(g_s, law.damping, mass, k, -gap);
                     out[pairs.len() + i] =
                         step(&mut m.specimen_xi, &nz, &slip, k_t, gamma, fr.specimen, f_n);
                 }
@@ -1157,8 +1159,9 @@ impl Ctx<'_> {
             .expect("BUG: specimen contact without specimen");
         let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
         let overlap = -sp.gap(&pos(y, i), m.body.radius);
-        sp.law
-            .unloading_margin(k, m.body.mass, overlap, -vel(y, i).z)
+        let vz = vel(y, i).z;
+        sp.law_of(m, vz)
+            .unloading_margin(k, m.body.mass, overlap, -vz)
     }
 
     /// Member `i`'s nozzle-wall margin for `what`: the gap while approaching, the
@@ -1426,6 +1429,7 @@ impl Ctx<'_> {
             .specimen
             .as_ref()
             .expect("BUG: specimen onset without specimen");
+        m.specimen_damping = sp.law_at(-v.z).damping;
         m.on_specimen = true;
         let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
         m.specimen_contact_time =
@@ -1706,7 +1710,7 @@ impl Ctx<'_> {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                     let overlap = -sp.gap(&p, m.body.radius);
                     cap = cap.min(in_contact(
-                        &sp.law,
+                        &sp.law_of(m, v.z),
                         m.specimen_contact_time,
                         m.specimen_onset,
                         overlap,
@@ -1716,7 +1720,7 @@ impl Ctx<'_> {
                 } else {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                     cap = cap.min(approach(
-                        &sp.law,
+                        &sp.law_at(-v.z),
                         sp.gap(&p, m.body.radius),
                         -v.z,
                         m.body.mass,
@@ -1875,7 +1879,7 @@ impl Ctx<'_> {
                 if m.on_specimen && fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
                     let mu = fr.map_or(0.0, |f| f.specimen);
                     let (tc, on) = (m.specimen_contact_time, m.specimen_onset);
-                    one(y1, &sp.law, k, tc, on, Vec3::z(), mu);
+                    one(y1, &sp.law_of(m, v.z), k, tc, on, Vec3::z(), mu);
                 }
             }
             if let Some(w) = &c.wall {

@@ -92,6 +92,11 @@ pub const EXAMPLES: &[Example] = &[
         false,
         "a 150 ms stream at 1.5 kg/min onto A5052: input for `peenflow coverage`"
     ),
+    example!(
+        "a5052_restitution_curve",
+        false,
+        "a stream onto A5052 with the restitution against impact speed CalculiX measures"
+    ),
 ];
 
 /// The example called `name`.

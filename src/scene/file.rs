@@ -376,8 +376,10 @@ impl Default for SpecimenFile {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct RestitutionFile {
-    /// Shot on specimen (paper: 0.70).
-    pub shot_specimen: f64,
+    /// Shot on specimen (paper: 0.70); `None`: 0.70, or the curve when one is given.
+    pub shot_specimen: Option<f64>,
+    /// Shot on specimen against the normal impact speed (beyond the paper).
+    pub shot_specimen_curve: Option<RestitutionCurveFile>,
     /// Shot on shot (paper: 0.90).
     pub shot_shot: f64,
     /// Shot on the nozzle bore wall.
@@ -387,11 +389,22 @@ pub struct RestitutionFile {
 impl Default for RestitutionFile {
     fn default() -> Self {
         RestitutionFile {
-            shot_specimen: 0.7,
+            shot_specimen: None,
+            shot_specimen_curve: None,
             shot_shot: 0.9,
             shot_nozzle: 0.7,
         }
     }
+}
+
+/// `[restitution] shot_specimen_curve`: restitution at a few normal impact speeds.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RestitutionCurveFile {
+    /// Normal impact speeds, m/s, increasing.
+    pub speed_m_s: Vec<f64>,
+    /// Restitution at each speed.
+    pub restitution: Vec<f64>,
 }
 
 /// `[friction]`: Coulomb coefficients. All zero (the paper: frictionless contacts)

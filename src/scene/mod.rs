@@ -367,10 +367,14 @@ impl Feed {
 }
 
 /// Restitution coefficients.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Restitution {
-    /// Shot on specimen.
+    /// Shot on specimen (with a curve: its value at 70 m/s, for the reports that quote one
+    /// number).
     pub shot_specimen: f64,
+    /// Shot on specimen against the normal impact speed (`None`: `shot_specimen` at every
+    /// speed).
+    pub shot_specimen_curve: Option<crate::contact::restitution::RestitutionCurve>,
     /// Shot on shot.
     pub shot_shot: f64,
     /// Shot on nozzle wall.

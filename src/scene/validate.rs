@@ -5,6 +5,7 @@ use super::error::SceneError;
 use super::file::*;
 use super::material::{LIBRARY, Material, builtin};
 use super::*;
+use crate::contact::restitution::{MAX_POINTS, RestitutionCurve};
 use crate::flow::{AirState, JetModel};
 use crate::state::Domain;
 
@@ -889,14 +890,78 @@ impl SceneFile {
         };
 
         let r = &f.restitution;
+        let shot_specimen_curve = match (&r.shot_specimen_curve, r.shot_specimen) {
+            (None, _) => None,
+            (Some(_), Some(_)) => {
+                return Err(c.invalid(
+                    "restitution.shot_specimen_curve",
+                    "give either shot_specimen (one restitution) or shot_specimen_curve \
+                     (restitution against impact speed), not both",
+                ));
+            }
+            (Some(cf), None) => {
+                let k = "restitution.shot_specimen_curve";
+                let n = cf.speed_m_s.len();
+                if n == 0 || n > MAX_POINTS || cf.restitution.len() != n {
+                    return Err(c.invalid(
+                        k,
+                        format!(
+                            "speed_m_s has {n} values and restitution {}: give the same \
+                             number of each, 1 to {MAX_POINTS}",
+                            cf.restitution.len()
+                        ),
+                    ));
+                }
+                for (i, (&v, &e)) in cf.speed_m_s.iter().zip(&cf.restitution).enumerate() {
+                    let lo = if i == 0 {
+                        B::Ex(0.0)
+                    } else {
+                        B::Ex(cf.speed_m_s[i - 1])
+                    };
+                    c.range(&format!("{k}.speed_m_s[{i}]"), v, lo, B::In(1000.0), "m/s")
+                        .map_err(|e| match (i, e) {
+                            (
+                                1..,
+                                SceneError::OutOfRange {
+                                    path,
+                                    key,
+                                    value,
+                                    allowed,
+                                },
+                            ) => SceneError::OutOfRange {
+                                path,
+                                key,
+                                value,
+                                allowed: format!("{allowed} (speeds increase)"),
+                            },
+                            (_, e) => e,
+                        })?;
+                    c.range(
+                        &format!("{k}.restitution[{i}]"),
+                        e,
+                        B::Ex(0.0),
+                        B::In(1.0),
+                        "",
+                    )?;
+                }
+                Some(RestitutionCurve::new(
+                    cf.speed_m_s.clone(),
+                    cf.restitution.clone(),
+                ))
+            }
+        };
         let restitution = Restitution {
-            shot_specimen: c.range(
-                "restitution.shot_specimen",
-                r.shot_specimen,
-                B::Ex(0.0),
-                B::In(1.0),
-                "",
-            )?,
+            shot_specimen: match &shot_specimen_curve {
+                Some(curve) => curve.at(f64::INFINITY),
+                None => c.range(
+                    "restitution.shot_specimen",
+                    r.shot_specimen.unwrap_or(0.7),
+                    B::Ex(0.0),
+                    B::In(1.0),
+                    "",
+                )?,
+            },
+            shot_specimen_curve,
             shot_shot: c.range(
                 "restitution.shot_shot",
                 r.shot_shot,

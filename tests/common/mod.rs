@@ -95,7 +95,10 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
             turbulence: None,
         },
         contacts: ContactSet {
-            specimen: specimen_e.map(|e| SpecimenContact { law: law(e) }),
+            specimen: specimen_e.map(|e| SpecimenContact {
+                law: law(e),
+                by_speed: None,
+            }),
             wall: None,
             pair: pair_e.map(|e| PairContact { law: law(e) }),
             friction: None,
