@@ -31,7 +31,9 @@ spring with history (`tangential = "history"`) instead of the viscous law. With 
 --events (since session 43; with --ballistic or --vacuum): on the event scheduler
 (`scheduler = "events"`). With --verlet --hybrid (since session 44): on the hybrid method
 (`method = "hybrid"`: adaptive in flight at the scene's tolerance, the drawn step inside
-contacts) at the scenes' full duration.
+contacts) at the scenes' full duration. With --curves (since session 48; with any
+of the others): a random shot-specimen restitution curve (`shot_specimen_curve`, 1 to
+6 points) in place of the constant.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -44,6 +46,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import subprocess
 import sys
@@ -64,6 +67,20 @@ def contact_tables(r, restitutions, frictions, mu_max):
             extra = [] if mu_max is None else [r.uniform(0, mu_max)]
             lines.append(f"{k} = {r.choice(frictions + extra):.3f}")
     return lines
+
+
+def with_curve(r, text):
+    """`text` with its shot-specimen restitution replaced by a random curve: 1 to 6
+    points at increasing speeds from 0.5 to 400 m/s, restitutions from 0.05 to 1."""
+    n = r.randint(1, 6)
+    speeds = sorted(r.sample(range(1, 801), n))
+    pts = ", ".join(f"{0.5 * v:.1f}" for v in speeds)
+    es = ", ".join(f"{r.choice([1.0, r.uniform(0.05, 1)]):.3f}" for _ in speeds)
+    curve = f"shot_specimen_curve = {{ speed_m_s = [{pts}], restitution = [{es}] }}"
+    head, sep, tail = text.partition("[restitution]\n")
+    if not sep:
+        return text
+    return head + sep + re.sub(r"(?m)^shot_specimen = [0-9.]+$", curve, tail, count=1)
 
 
 def nozzle_table(bore, length, standoff, angle, azimuth):
@@ -423,6 +440,9 @@ def main():
     ap.add_argument("--hybrid", action="store_true",
                     help="with --verlet: on the hybrid method (adaptive in flight, the step "
                          "inside contacts), at full duration")
+    ap.add_argument("--curves", action="store_true",
+                    help="a random shot-specimen restitution curve in place of the constant "
+                         "(`shot_specimen_curve`)")
     ap.add_argument("--events", action="store_true",
                     help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
                          "scenes without air: --ballistic or --vacuum)")
@@ -452,6 +472,9 @@ def main():
         if a.history:
             # No draw: the scenes are those of --verlet with the same seed.
             text = text.replace("[friction]\n", '[friction]\ntangential = "history"\n')
+        if a.curves:
+            # From a generator of its own: the scenes are those without --curves.
+            text = with_curve(random.Random(a.seed * 1_000_003 + k + 500_000_009), text)
         if a.events:
             # No draw either.
             for m in ("verlet", "hybrid"):

@@ -14,7 +14,7 @@
 //! damping is the contact's, not the instant's, so the rebound is exactly `e(v) v`.
 //! [`SpeedLaw`] holds the curve and a table of the damping against `ln e` (the
 //! calibration [`damping_for_restitution`] costs milliseconds a call; the table is built
-//! once, in about 0.1 s, and a lookup costs 60 ns).
+//! once, in about 0.07 s, and a lookup costs 60 ns).
 
 use super::hertz::{damping_for_restitution, restitution_for_damping};
 
@@ -75,6 +75,16 @@ impl RestitutionCurve {
             .fold(f64::NEG_INFINITY, f64::max);
         (lo, hi)
     }
+}
+
+/// The curve CalculiX measures for a rigid 0.8 mm Table 2 steel shot on A5052
+/// (`python3 bench/fe_restitution.py --target-material A5052`, session 48:
+/// docs/fe-coupling.md); `examples/a5052_restitution_curve.toml` holds the same points.
+pub fn a5052_calculix() -> RestitutionCurve {
+    RestitutionCurve::new(
+        vec![20.0, 35.0, 50.0, 70.0, 100.0],
+        vec![0.408, 0.342, 0.303, 0.268, 0.232],
+    )
 }
 
 /// Intervals of the damping table (between the curve's smallest and largest `e`).
@@ -222,5 +232,19 @@ mod tests {
         }
         let flat = SpeedLaw::new(RestitutionCurve::new(vec![70.0], vec![0.3]));
         assert_eq!(flat.damping(3.0), damping_for_restitution(0.3));
+    }
+
+    /// The example scene's curve is the one the code quotes (docs and validation use it).
+    #[test]
+    fn the_example_holds_the_measured_curve() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/a5052_restitution_curve.toml"
+        );
+        let scene = crate::scene::Scene::load(std::path::Path::new(path)).unwrap();
+        assert_eq!(
+            scene.restitution.shot_specimen_curve,
+            Some(a5052_calculix())
+        );
     }
 }
