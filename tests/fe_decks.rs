@@ -765,3 +765,52 @@ fn spinning_shots_in_abaqus_and_lsdyna_decks() {
         }
     }
 }
+
+/// `bench/fe_restitution.py` (the shot-specimen restitution curve from CalculiX) runs, and
+/// reproduces the curve the example scene and docs/fe-coupling.md quote at its ends, 20
+/// and 100 m/s, to 0.005 (it printed 0.408 and 0.232 when the curve was measured).
+#[test]
+fn fe_restitution_script_reproduces_the_quoted_curve() {
+    if !have("ccx", &["-v"]) {
+        return;
+    }
+    let o = Command::new("python3")
+        .arg(root().join("bench/fe_restitution.py"))
+        .args([
+            "--binary",
+            env!("CARGO_BIN_EXE_peenflow"),
+            "--speeds",
+            "20,100",
+        ])
+        .args(["--target-material", "A5052"])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    println!("{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("shot_specimen_curve = "))
+        .expect("no scene line");
+    let values: Vec<f64> = line
+        .split("restitution = [")
+        .nth(1)
+        .unwrap()
+        .trim_end_matches(" }")
+        .trim_end_matches(']')
+        .split(", ")
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let quoted = peenflow::contact::restitution::a5052_calculix();
+    for (v, e) in [20.0, 100.0].into_iter().zip(values) {
+        assert!(
+            (e - quoted.at(v)).abs() < 0.005,
+            "{v} m/s: {e} against {}",
+            quoted.at(v)
+        );
+    }
+}
