@@ -5,7 +5,8 @@
 //!   on the event scheduler, on windows, with friction, on the fixed-step and hybrid
 //!   methods, each within a tolerance stated with its method;
 //! * a one-point curve is the constant restitution: the same run to the bit;
-//! * a nozzle stream with a curve gives the same results on 1 and 2 threads.
+//! * a nozzle stream with a curve gives the same results on 1 and 2 threads, and its list
+//!   of effects names the curve.
 
 mod common;
 use common::*;
@@ -139,6 +140,16 @@ fn a_stream_with_a_curve_is_the_same_on_one_and_two_threads() {
         curve_line()
     );
     let scene = Scene::from_toml(&text, "stream.toml").unwrap();
+    // The run's list of effects says which law the specimen contact has.
+    let said = &scene.effects().decisions[3];
+    assert_eq!(said.name, "specimen_contact");
+    assert!(
+        said.reason.ends_with(
+            "; restitution against impact speed (3 points: 0.5 at 20 m/s to 0.25 at 100 m/s)"
+        ),
+        "{}",
+        said.reason
+    );
     let one = run_scene_on(1, &scene);
     let two = run_scene_on(2, &scene);
     println!("{} impacts", one.impacts.len());

@@ -221,6 +221,16 @@ impl Scene {
             };
             decisions.push(EffectDecision { name, on, reason });
         }
+        // The shot-specimen law, when it is not one constant: say so where the run lists
+        // its effects.
+        if let (Some(curve), true) = (&self.restitution.shot_specimen_curve, decisions[3].on) {
+            let pts: Vec<(f64, f64)> = curve.points().collect();
+            let ((v0, e0), (v1, e1)) = (pts[0], pts[pts.len() - 1]);
+            decisions[3].reason += &format!(
+                "; restitution against impact speed ({} points: {e0} at {v0} m/s to {e1} at {v1} m/s)",
+                pts.len()
+            );
+        }
         Effects {
             drag: decisions[0].on,
             lateral_force: decisions[1].on,
