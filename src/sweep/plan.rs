@@ -532,6 +532,21 @@ fn resolve(
     shown: &str,
 ) -> Result<(String, Scene), String> {
     let mut table = base.clone();
+    // A varied key replaces its alternative in the base scene (the default scene writes
+    // `shot_specimen = 0.70`, which a varied curve would otherwise meet); if both are
+    // varied, the scene's own check names the conflict.
+    let varies = |k: &str| {
+        pairs
+            .iter()
+            .any(|(v, _)| *v == k || v.strip_prefix(k).is_some_and(|r| r.starts_with('.')))
+    };
+    for (a, b) in ALTERNATIVES {
+        for (this, other) in [(a, b), (b, a)] {
+            if varies(this) && !varies(other) {
+                unset(&mut table, other);
+            }
+        }
+    }
     for (key, value) in pairs {
         set(&mut table, key, (*value).clone())?;
     }
@@ -549,6 +564,29 @@ fn resolve(
         other => other.to_string(),
     })?;
     Ok((text, scene))
+}
+
+/// Scene keys that stand for each other (a scene gives one of the two).
+const ALTERNATIVES: [(&str, &str); 3] = [
+    (
+        "restitution.shot_specimen",
+        "restitution.shot_specimen_curve",
+    ),
+    ("shots.diameter_mm", "shots.size_distribution"),
+    ("shots.feed.rate_per_s", "shots.feed.mass_flow_kg_min"),
+];
+
+/// Removes dotted `key` from `table`, if it is there.
+fn unset(table: &mut toml::Table, key: &str) {
+    let (path, last) = key.rsplit_once('.').unwrap_or(("", key));
+    let mut t = table;
+    for p in path.split('.').filter(|p| !p.is_empty()) {
+        match t.get_mut(p) {
+            Some(toml::Value::Table(inner)) => t = inner,
+            _ => return,
+        }
+    }
+    t.remove(last);
 }
 
 fn set(table: &mut toml::Table, key: &str, value: toml::Value) -> Result<(), String> {
@@ -578,4 +616,54 @@ fn set(table: &mut toml::Table, key: &str, value: toml::Value) -> Result<(), Str
     // the scene parser; a float list for a float key that holds an integer is fine.
     t.insert(last.to_string(), value);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(vary: &str) -> Result<Plan, SweepError> {
+        Plan::from_toml(&format!("[vary]\n{vary}\n"), "s.toml", Path::new("."))
+    }
+
+    /// A varied key replaces its alternative in the base scene: the default scene's
+    /// `shot_specimen = 0.70` gives way to a varied curve, its `diameter_mm` to a varied
+    /// size distribution; varying both of a pair is the scene's conflict, named.
+    #[test]
+    fn a_varied_key_replaces_its_alternative() {
+        let p = plan(
+            "\"restitution.shot_specimen_curve\" = [{ speed_m_s = [20.0, 70.0], restitution = [0.5, 0.3] }]",
+        )
+        .unwrap();
+        let r = &p.cases[0].scene.restitution;
+        assert_eq!(r.shot_specimen_curve.as_ref().unwrap().at(70.0), 0.3);
+        let text: toml::Table = toml::from_str(&p.cases[0].scene_text).unwrap();
+        assert!(
+            !text["restitution"]
+                .as_table()
+                .unwrap()
+                .contains_key("shot_specimen")
+        );
+        let p = plan(
+            "\"shots.size_distribution\" = [{ type = \"uniform\", min_mm = 0.5, max_mm = 0.7 }]",
+        )
+        .unwrap();
+        let text: toml::Table = toml::from_str(&p.cases[0].scene_text).unwrap();
+        assert!(
+            !text["shots"]
+                .as_table()
+                .unwrap()
+                .contains_key("diameter_mm")
+        );
+        // The constant varied on a base that gives the constant: nothing removed.
+        let p = plan("\"restitution.shot_specimen\" = [0.5]").unwrap();
+        assert_eq!(p.cases[0].scene.restitution.shot_specimen, 0.5);
+        let e = plan(
+            "\"restitution.shot_specimen\" = [0.5]\n\
+             \"restitution.shot_specimen_curve\" = [{ speed_m_s = [20.0], restitution = [0.5] }]",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("not both"), "{e}");
+    }
 }
