@@ -559,7 +559,7 @@ pub fn run(out: &Path, seeds: u64, progress: &dyn Fn(&str)) -> Result<String, pl
             }),
         ),
         (
-            "A5052 specimen with the restitution CalculiX measures (0.41 at 20 m/s to 0.23 at 100 m/s)",
+            "A5052 specimen with the restitution CalculiX measures (0.34 at 20 m/s to 0.18 at 100 m/s)",
             Box::new(|s: &mut Scene| {
                 s.specimen_material =
                     crate::scene::material::builtin("A5052").expect("BUG: built-in material");

@@ -301,3 +301,64 @@ fn a_sweep_case_gives_the_coverage_of_one_seed() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("holds seeds 1, 2"));
 }
+
+/// `--dent-curve`: a one-point curve through Johnson's law (`a/R = (8 rho / (3 p_d))^(1/4)
+/// v^(1/2)`, here at 1 m/s) gives the material model's coverage to the last digit; twice
+/// the ratio gives twice the median dent diameter; bad curves get one line and exit 2.
+#[test]
+fn a_measured_dent_curve_replaces_the_material_model() {
+    let t = tempfile::tempdir().unwrap();
+    common::coverage_run(t.path());
+    let run = |extra: &[&str], out: &str| {
+        let mut args = vec!["coverage", "run/impacts.h5", "--no-h5", "--out", out];
+        args.extend_from_slice(extra);
+        let o = peenflow(&args, t.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(t.path().join(out).join("coverage.json")).unwrap(),
+        )
+        .unwrap();
+        let csv = std::fs::read_to_string(t.path().join(out).join("coverage.csv")).unwrap();
+        (json, csv, String::from_utf8_lossy(&o.stdout).to_string())
+    };
+    // Table 2 steel shots (7850 kg/m^3) on A5052 (p_d = 3 x 195 MPa).
+    let f1 = (8.0f64 * 7850.0 / (3.0 * 3.0 * 195e6)).powf(0.25);
+    let (model, model_csv, _) = run(&["--window", "-2,-2,2,2"], "m");
+    let one = format!("1:{f1}");
+    let (curve, curve_csv, said) = run(&["--window", "-2,-2,2,2", "--dent-curve", &one], "c");
+    assert!(said.contains("measured dents (--dent-curve)"), "{said}");
+    assert_eq!(model_csv, curve_csv);
+    assert_eq!(model["final_coverage"], curve["final_coverage"]);
+    let twice = format!("1:{}", 2.0 * f1);
+    let (double, _, _) = run(&["--window", "-2,-2,2,2", "--dent-curve", &twice], "d");
+    let d = |j: &serde_json::Value| j["median_dent_diameter_m"].as_f64().unwrap();
+    assert!(
+        (d(&double) / d(&model) - 2.0).abs() < 1e-9,
+        "{double} {model}"
+    );
+    for (bad, says) in [
+        ("20:0.4,10:0.5", "speeds must increase"),
+        ("20-0.4", "give SPEED:RATIO pairs"),
+        ("20:9", "allowed (0, 5]"),
+    ] {
+        let o = peenflow(
+            &[
+                "coverage",
+                "run/impacts.h5",
+                "--out",
+                "bad",
+                "--dent-curve",
+                bad,
+            ],
+            t.path(),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
+        assert!(
+            err.contains(says) && err.contains("--dent-curve"),
+            "{bad}: {err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!t.path().join("bad").exists());
+    }
+}

@@ -766,23 +766,24 @@ fn spinning_shots_in_abaqus_and_lsdyna_decks() {
     }
 }
 
-/// `bench/fe_restitution.py` (the shot-specimen restitution curve from CalculiX) runs, and
-/// reproduces the curve the example scene and docs/fe-coupling.md quote at its ends, 20
-/// and 100 m/s, to 0.005 (it printed 0.408 and 0.232 when the curve was measured).
+/// `bench/fe_calibrate.py` (restitution and dent size from CalculiX) runs, and reproduces
+/// at 100 m/s with 0.05 mm elements the restitution the example scene, the validation and
+/// docs/fe-coupling.md quote (0.181, to 0.005) and the dent radius over shot radius that
+/// docs/fe-coupling.md and docs/coverage.md quote (0.600, to 0.02).
 #[test]
-fn fe_restitution_script_reproduces_the_quoted_curve() {
+fn fe_calibrate_script_reproduces_the_quoted_curves() {
     if !have("ccx", &["-v"]) {
         return;
     }
     let o = Command::new("python3")
-        .arg(root().join("bench/fe_restitution.py"))
+        .arg(root().join("bench/fe_calibrate.py"))
         .args([
             "--binary",
             env!("CARGO_BIN_EXE_peenflow"),
             "--speeds",
-            "20,100",
+            "100",
         ])
-        .args(["--target-material", "A5052"])
+        .args(["--target-material", "A5052", "--element-size-mm", "0.05"])
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
@@ -792,25 +793,23 @@ fn fe_restitution_script_reproduces_the_quoted_curve() {
         String::from_utf8_lossy(&o.stderr)
     );
     println!("{out}");
-    let line = out
-        .lines()
-        .find(|l| l.starts_with("shot_specimen_curve = "))
-        .expect("no scene line");
-    let values: Vec<f64> = line
-        .split("restitution = [")
-        .nth(1)
-        .unwrap()
-        .trim_end_matches(" }")
-        .trim_end_matches(']')
-        .split(", ")
-        .map(|v| v.parse().unwrap())
-        .collect();
-    let quoted = peenflow::contact::restitution::a5052_calculix();
-    for (v, e) in [20.0, 100.0].into_iter().zip(values) {
-        assert!(
-            (e - quoted.at(v)).abs() < 0.005,
-            "{v} m/s: {e} against {}",
-            quoted.at(v)
-        );
-    }
+    let after = |key: &str| -> f64 {
+        let line = out.lines().find(|l| l.starts_with(key)).expect(key);
+        let v = &line[line.rfind(['[', ':']).unwrap() + 1..];
+        v.trim_end_matches(" }")
+            .trim_end_matches(']')
+            .parse()
+            .unwrap()
+    };
+    let e = after("shot_specimen_curve = ");
+    let quoted = peenflow::contact::restitution::a5052_calculix().at(100.0);
+    assert!(
+        (e - quoted).abs() < 0.005,
+        "restitution {e} against {quoted}"
+    );
+    let dent = after("--dent-curve ");
+    assert!(
+        (dent - 0.600).abs() < 0.02,
+        "dent radius / shot radius {dent}"
+    );
 }

@@ -59,6 +59,11 @@ pub struct CoverageArgs {
     /// are plastic; without, the Hertz contact footprint.
     #[arg(long)]
     pub target_material: Option<String>,
+    /// Measured dents instead of the material's model: SPEED:RATIO,... with the normal
+    /// impact speed in m/s and the dent radius over the shot radius, e.g. from
+    /// `bench/fe_calibrate.py` (power law between points; docs/coverage.md).
+    #[arg(long, value_delimiter = ',', value_name = "SPEED:RATIO")]
+    pub dent_curve: Option<Vec<String>>,
     /// Output directory (coverage.csv, coverage.json, coverage_map, coverage_curve).
     #[arg(short, long, default_value = "coverage-out")]
     pub out: PathBuf,

@@ -586,6 +586,28 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         None => None,
     };
     let traverse = traverse_of(&a)?;
+    let dent = match &a.dent_curve {
+        Some(items) => {
+            let shown = items.join(",");
+            let points = items
+                .iter()
+                .map(|it| {
+                    let (v, f) = it.split_once(':')?;
+                    Some((v.trim().parse::<f64>().ok()?, f.trim().parse::<f64>().ok()?))
+                })
+                .collect::<Option<Vec<(f64, f64)>>>()
+                .with_context(|| {
+                    format!(
+                        "--dent-curve {shown}: give SPEED:RATIO pairs separated by commas (normal impact speed in m/s, dent radius over shot radius), e.g. 20:0.36,70:0.52"
+                    )
+                })?;
+            Some(
+                crate::coverage::dent::DentModel::measured(&points)
+                    .map_err(|e| anyhow::anyhow!("--dent-curve {shown}: {e}"))?,
+            )
+        }
+        None => None,
+    };
     if !a.impacts.is_file() {
         bail!("{}: no such impact file", a.impacts.display());
     }
@@ -599,6 +621,7 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         update_h5: !a.no_h5,
         seed: a.seed,
         traverse,
+        dent,
     })?;
     let c = &r.coverage;
     if r.seed.1 > 1 {

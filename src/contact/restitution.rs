@@ -77,13 +77,14 @@ impl RestitutionCurve {
     }
 }
 
-/// The curve CalculiX measures for a rigid 0.8 mm Table 2 steel shot on A5052
-/// (`python3 bench/fe_restitution.py --target-material A5052`, session 48:
-/// docs/fe-coupling.md); `examples/a5052_restitution_curve.toml` holds the same points.
+/// The curve CalculiX measures for a rigid 0.8 mm Table 2 steel shot on A5052 with
+/// 0.05 mm elements under the impact (`python3 bench/fe_calibrate.py --target-material
+/// A5052 --element-size-mm 0.05`, session 48: docs/fe-coupling.md);
+/// `examples/a5052_restitution_curve.toml` holds the same points.
 pub fn a5052_calculix() -> RestitutionCurve {
     RestitutionCurve::new(
         vec![20.0, 35.0, 50.0, 70.0, 100.0],
-        vec![0.408, 0.342, 0.303, 0.268, 0.232],
+        vec![0.342, 0.289, 0.253, 0.222, 0.181],
     )
 }
 

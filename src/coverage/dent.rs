@@ -14,9 +14,15 @@
 
 use crate::scene::Material;
 
+/// Most points of a measured dent curve.
+pub const MAX_DENT_POINTS: usize = 16;
+
 /// How dent radii are computed.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum DentModel {
+    /// Dent radius over shot radius measured at a few normal speeds:
+    /// `(normal speed m/s, dent radius / shot radius)`, speeds increasing.
+    Measured(Vec<(f64, f64)>),
     /// Perfectly plastic target at mean pressure `pressure` (Pa).
     Plastic {
         /// Dynamic hardness `3 Y`, Pa.
@@ -45,12 +51,38 @@ impl DentModel {
         }
     }
 
+    /// The measured model through `points` (`(normal speed m/s, dent radius / shot
+    /// radius)`), or what is wrong with them.
+    pub fn measured(points: &[(f64, f64)]) -> Result<DentModel, String> {
+        if points.is_empty() || points.len() > MAX_DENT_POINTS {
+            return Err(format!("give 1 to {MAX_DENT_POINTS} points"));
+        }
+        for (i, &(v, f)) in points.iter().enumerate() {
+            if !(v > 0.0 && v <= 1000.0) {
+                return Err(format!("speed {v} m/s: allowed (0, 1000]"));
+            }
+            if i > 0 && v <= points[i - 1].0 {
+                return Err(format!(
+                    "speed {v} m/s after {} m/s: speeds must increase",
+                    points[i - 1].0
+                ));
+            }
+            if !(f > 0.0 && f <= 5.0) {
+                return Err(format!(
+                    "dent radius / shot radius {f} at {v} m/s: allowed (0, 5]"
+                ));
+            }
+        }
+        Ok(DentModel::Measured(points.to_vec()))
+    }
+
     /// Dent radius (m) of a shot of `radius` (m) and `mass` (kg) at normal speed `v_n`.
     pub fn radius(&self, radius: f64, mass: f64, v_n: f64) -> f64 {
         if v_n <= 0.0 {
             return 0.0;
         }
         match *self {
+            DentModel::Measured(ref points) => radius * measured_ratio(points, v_n),
             DentModel::Plastic { pressure } => {
                 let rho = mass / (4.0 / 3.0 * std::f64::consts::PI * radius.powi(3));
                 radius * (8.0 * rho * v_n * v_n / (3.0 * pressure)).powf(0.25)
@@ -66,6 +98,14 @@ impl DentModel {
     /// One line for reports.
     pub fn describe(&self) -> String {
         match self {
+            DentModel::Measured(points) => format!(
+                "measured dents (--dent-curve), dent radius / shot radius {} (power law between points)",
+                points
+                    .iter()
+                    .map(|(v, f)| format!("{f} at {v} m/s"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             DentModel::Plastic { pressure } => format!(
                 "plastic dent, a = R (8 rho v_n^2 / (3 p_d))^(1/4), dynamic hardness p_d = 3 Y = {:.0} MPa",
                 pressure * 1e-6
@@ -78,9 +118,62 @@ impl DentModel {
     }
 }
 
+/// `f(v)` of a measured curve: the power law of the segment holding `v` (the first or
+/// last segment beyond the ends; `v^(1/2)` through a lone point).
+fn measured_ratio(points: &[(f64, f64)], v: f64) -> f64 {
+    if points.len() == 1 {
+        let (v0, f0) = points[0];
+        return f0 * (v / v0).sqrt();
+    }
+    let i = points
+        .partition_point(|p| p.0 <= v)
+        .clamp(1, points.len() - 1)
+        - 1;
+    let ((v0, f0), (v1, f1)) = (points[i], points[i + 1]);
+    f0 * (v / v0).powf((f1 / f0).ln() / (v1 / v0).ln())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A measured curve passes through its points, is a power law between them and
+    /// beyond its ends (the end segments' exponents), scales with the shot radius, and
+    /// refuses bad points.
+    #[test]
+    fn a_measured_curve_interpolates_as_power_laws() {
+        let pts = [(20.0, 0.36), (70.0, 0.52), (100.0, 0.58)];
+        let m = DentModel::measured(&pts).unwrap();
+        let r = 0.4e-3;
+        for (v, f) in pts {
+            assert!((m.radius(r, 1.0, v) / (r * f) - 1.0).abs() < 1e-12);
+        }
+        let p0 = (0.52f64 / 0.36).ln() / 3.5f64.ln();
+        assert!((m.radius(r, 1.0, 40.0) / (r * 0.36 * 2f64.powf(p0)) - 1.0).abs() < 1e-12);
+        assert!((m.radius(r, 1.0, 10.0) / (r * 0.36 * 0.5f64.powf(p0)) - 1.0).abs() < 1e-12);
+        let p1 = (0.58f64 / 0.52).ln() / (100.0f64 / 70.0).ln();
+        assert!((m.radius(r, 1.0, 200.0) / (r * 0.58 * 2f64.powf(p1)) - 1.0).abs() < 1e-12);
+        assert!((m.radius(2.0 * r, 8.0, 55.0) / m.radius(r, 1.0, 55.0) - 2.0).abs() < 1e-12);
+        assert_eq!(m.radius(r, 1.0, 0.0), 0.0);
+        let one = DentModel::measured(&[(50.0, 0.5)]).unwrap();
+        assert!((one.radius(r, 1.0, 200.0) / (r * 1.0) - 1.0).abs() < 1e-12);
+        assert!(DentModel::measured(&[]).is_err());
+        assert!(
+            DentModel::measured(&[(50.0, 0.5), (40.0, 0.6)])
+                .unwrap_err()
+                .contains("increase")
+        );
+        assert!(
+            DentModel::measured(&[(50.0, 0.0)])
+                .unwrap_err()
+                .contains("(0, 5]")
+        );
+        assert!(
+            DentModel::measured(&[(-5.0, 0.3)])
+                .unwrap_err()
+                .contains("(0, 1000]")
+        );
+    }
 
     #[test]
     fn plastic_dent_conserves_energy_and_grows_with_sqrt_speed() {

@@ -32,6 +32,8 @@ pub struct Request {
     pub seed: Option<u64>,
     /// A moving nozzle: coverage per pass and per raster ([`traverse`]).
     pub traverse: Option<Traverse>,
+    /// Measured dents instead of the material's model (`--dent-curve`).
+    pub dent: Option<DentModel>,
 }
 
 /// The study's result, for printing.
@@ -90,7 +92,10 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         .target
         .clone()
         .unwrap_or_else(|| scene.specimen_material.clone());
-    let model = DentModel::for_pair(&scene.shot_material, &target);
+    let model = req
+        .dent
+        .clone()
+        .unwrap_or_else(|| DentModel::for_pair(&scene.shot_material, &target));
     let shown = req.impacts.display().to_string();
     // A sweep case pools several seeds (independent repeats of the same exposure): the
     // coverage is that of one of them.
