@@ -59,10 +59,11 @@ impl RestitutionCurve {
             return self.values[n - 1];
         }
         let i = self.speeds.partition_point(|&s| s <= v) - 1;
-        let (v0, v1) = (self.speeds[i], self.speeds[i + 1]);
-        let (e0, e1) = (self.values[i], self.values[i + 1]);
-        let f = (v / v0).ln() / (v1 / v0).ln();
-        e0 * (e1 / e0).powf(f)
+        power_law(
+            v,
+            (self.speeds[i], self.values[i]),
+            (self.speeds[i + 1], self.values[i + 1]),
+        )
     }
 
     /// Smallest and largest restitution on the curve.
@@ -86,6 +87,12 @@ pub fn a5052_calculix() -> RestitutionCurve {
         vec![20.0, 35.0, 50.0, 70.0, 100.0],
         vec![0.342, 0.289, 0.253, 0.222, 0.181],
     )
+}
+
+/// The power law `y(v)` through `(v0, y0)` and `(v1, y1)` (all positive, `v0 != v1`):
+/// straight in log-log, extended beyond the two points.
+pub fn power_law(v: f64, (v0, y0): (f64, f64), (v1, y1): (f64, f64)) -> f64 {
+    y0 * (y1 / y0).powf((v / v0).ln() / (v1 / v0).ln())
 }
 
 /// Intervals of the damping table (between the curve's smallest and largest `e`).

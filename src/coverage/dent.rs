@@ -129,8 +129,7 @@ fn measured_ratio(points: &[(f64, f64)], v: f64) -> f64 {
         .partition_point(|p| p.0 <= v)
         .clamp(1, points.len() - 1)
         - 1;
-    let ((v0, f0), (v1, f1)) = (points[i], points[i + 1]);
-    f0 * (v / v0).powf((f1 / f0).ln() / (v1 / v0).ln())
+    crate::contact::restitution::power_law(v, points[i], points[i + 1])
 }
 
 #[cfg(test)]
