@@ -78,9 +78,9 @@ pub struct ShotState {
     pub specimen_contact_time: f64,
     /// Onset time of the current specimen contact, s.
     pub specimen_onset: f64,
-    /// Tsuji damping factor of the current specimen contact, set at its touch when the
-    /// restitution depends on the impact speed (`SpecimenContact::law_of`); unused
-    /// otherwise.
+    /// Tsuji damping factor of the current specimen contact, set at every touch (the
+    /// constant law's without a curve); read only when the restitution depends on the
+    /// impact speed (`SpecimenContact::law_of`).
     pub specimen_damping: f64,
     /// In contact with the nozzle wall.
     pub on_wall: bool,

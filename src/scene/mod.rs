@@ -369,8 +369,9 @@ impl Feed {
 /// Restitution coefficients.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Restitution {
-    /// Shot on specimen (with a curve: its value at 70 m/s, for the reports that quote one
-    /// number).
+    /// Shot on specimen. With a curve: the curve's value at its fastest point, which only
+    /// sets the base law (`SpecimenContact::law`, whose stiffness every contact uses and
+    /// whose damping none does).
     pub shot_specimen: f64,
     /// Shot on specimen against the normal impact speed (`None`: `shot_specimen` at every
     /// speed).
