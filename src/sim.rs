@@ -120,6 +120,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
                 .shot_specimen_curve
                 .clone()
                 .map(|c| std::sync::Arc::new(SpeedLaw::new(c))),
+            shape: scene.specimen_shape,
         }),
         wall: effects.nozzle_wall_contact.then(|| WallContact {
             law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),
@@ -159,7 +160,9 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         domain: scene.domain,
         max_step: scene.integrator.max_step,
         method: scene.integrator.method,
-        sliding: true,
+        // Sliding moves a shot in the specimen's plane: on a curved specimen shots step
+        // through their contacts.
+        sliding: scene.specimen_shape.is_plane(),
         blocks_min: island::BLOCKS_MIN,
     }
 }
@@ -703,7 +706,11 @@ fn closing(sa: &ShotState, sb: &ShotState, acc: f64, span: f64) -> bool {
 /// [`body_acc`].
 #[inline]
 fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, a: f64, t0: f64, t1: f64) -> bool {
-    let near_specimen = phys.contacts.specimen.is_some() && s.pos.z < reach;
+    let near_specimen = phys
+        .contacts
+        .specimen
+        .as_ref()
+        .is_some_and(|sp| sp.shape.distance(&s.pos) < reach);
     let near_wall = phys
         .contacts
         .wall
@@ -1268,8 +1275,9 @@ impl Simulation {
             .map(|s| s.t_start)
             .fold(f64::INFINITY, f64::min);
         let there: Vec<&ShotState> = self.shots.iter().filter(|s| s.t_start <= first).collect();
-        let specimen = self.physics.contacts.specimen.is_some();
-        if specimen && there.iter().any(|s| s.pos.z <= s.body.radius) {
+        if let Some(sp) = &self.physics.contacts.specimen
+            && there.iter().any(|s| sp.gap(&s.pos, s.body.radius) <= 0.0)
+        {
             return true;
         }
         let centres: Vec<Vec3> = there.iter().map(|s| s.pos).collect();

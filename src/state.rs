@@ -32,13 +32,18 @@ pub struct Domain {
     pub radius: f64,
     /// Largest height above the specimen, m.
     pub top: f64,
+    /// Lowest height, m: below it a shot has passed a curved specimen for good
+    /// ([`crate::contact::specimen::SpecimenShape::floor`]; `-inf` over the plane).
+    pub bottom: f64,
 }
 
 impl Domain {
     /// Whether `pos` lies inside.
     #[inline]
     pub fn contains(&self, pos: &Vec3) -> bool {
-        pos.x * pos.x + pos.y * pos.y <= self.radius * self.radius && pos.z <= self.top
+        pos.x * pos.x + pos.y * pos.y <= self.radius * self.radius
+            && pos.z <= self.top
+            && pos.z >= self.bottom
     }
 }
 

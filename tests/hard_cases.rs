@@ -41,6 +41,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
             specimen: specimen.map(|law| SpecimenContact {
                 law,
                 by_speed: None,
+                shape: peenflow::contact::specimen::SpecimenShape::Plane,
             }),
             wall: None,
             pair: pair.map(|law| PairContact { law }),
@@ -51,6 +52,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
         domain: Domain {
             radius: 10.0,
             top: 10.0,
+            bottom: f64::NEG_INFINITY,
         },
         max_step: 1e-3,
         method: peenflow::integrate::island::Method::Adaptive,

@@ -1127,6 +1127,7 @@ mod tests {
         SpecimenContact {
             law,
             by_speed: None,
+            shape: crate::contact::specimen::SpecimenShape::Plane,
         }
     }
 

@@ -140,6 +140,14 @@ pub fn unsuitable(phys: &Physics) -> Option<&'static str> {
     if phys.contacts.wall.is_some() {
         return Some("nozzle wall contact is on");
     }
+    if phys
+        .contacts
+        .specimen
+        .as_ref()
+        .is_some_and(|sp| !sp.shape.is_plane())
+    {
+        return Some("the specimen is curved (its contacts are predicted on the flat plate only)");
+    }
     if phys.forces.gravity.is_some_and(|g| {
         g.acceleration.x != 0.0 || g.acceleration.y != 0.0 || g.acceleration.z > 0.0
     }) {

@@ -26,6 +26,7 @@
 use crate::Vec3;
 use crate::contact::friction::{self, INERTIA_FACTOR};
 use crate::contact::hertz::HertzLaw;
+use crate::contact::specimen::SpecimenShape;
 use crate::contact::{ContactSet, PairContact, effective_mass, hertz};
 use crate::counters::WorkCounters;
 use crate::forces::{ForceSet, ShotBody, Turbulence};
@@ -605,7 +606,7 @@ impl Ctx<'_> {
         let Some(sp) = &self.phys.contacts.specimen else {
             return false;
         };
-        if !m.on_specimen || !moving(m, t) {
+        if !m.on_specimen || !moving(m, t) || !sp.shape.is_plane() {
             let was = m.sliding;
             m.sliding = false;
             return was;
@@ -791,23 +792,25 @@ impl Ctx<'_> {
                     // the 10,000-shot stream, a quarter of the rejected trials
                     // (docs/performance-history.md, "Contacts unclamped up to their kink, session
                     // 35"). Friction takes the clamped load.
-                    let law = sp.law_of(m, v.z);
+                    let vn = sp.normal_velocity(&p, &v);
+                    let law = sp.law_of(m, vn);
                     let f = if pushing.is_some_and(|p| p.specimen[i]) {
-                        law.force_unclamped(k, m.body.mass, -gap, -v.z)
+                        law.force_unclamped(k, m.body.mass, -gap, -vn)
                     } else {
-                        law.force(k, m.body.mass, -gap, -v.z)
+                        law.force(k, m.body.mass, -gap, -vn)
                     };
-                    a.z += f / m.body.mass;
+                    sp.add_normal(&p, &mut a, f / m.body.mass);
                     let f = f.max(0.0);
                     if let Some(fr) = &fr {
                         work.friction_calls += 1;
-                        // Contact point below the centre; specimen normal +z.
-                        // The history law acts where LIGGGHTS' does (`Ctx::history`).
-                        let r_c = Vec3::new(0.0, 0.0, -history_lever(m.body.radius, -gap, tangent));
+                        // Contact point on the surface side of the centre, along the
+                        // normal (on the plane, below it). The history law acts where
+                        // LIGGGHTS' does (`Ctx::history`).
+                        let r_c = sp.lever(&p, history_lever(m.body.radius, -gap, tangent));
                         let ft = if let Some(tf) = tangent {
                             tf[pairs.len() + i]
                         } else {
-                            let nz = Vec3::z();
+                            let nz = sp.normal(&p);
                             let slip =
                                 friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
                             let gamma = friction::stick_damping(
@@ -976,10 +979,11 @@ impl Ctx<'_> {
                 if gap < 0.0 {
                     on_specimen = true;
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                    let law = sp.law_of(m, v.z);
-                    let f_n = law.force(k, mass, -gap, -v.z);
-                    let r_c = Vec3::new(0.0, 0.0, -(m.body.radius + 0.5 * gap));
-                    let nz = Vec3::z();
+                    let vn = sp.normal_velocity(&p, &v);
+                    let law = sp.law_of(m, vn);
+                    let f_n = law.force(k, mass, -gap, -vn);
+                    let r_c = sp.lever(&p, m.body.radius + 0.5 * gap);
+                    let nz = sp.normal(&p);
                     let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
                     let k_t = friction::history_stiffness(g_s, k, -gap);
                     let gamma = friction::history_damping(g_s, law.damping, mass, k, -gap);
@@ -1158,10 +1162,11 @@ impl Ctx<'_> {
             .as_ref()
             .expect("BUG: specimen contact without specimen");
         let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-        let overlap = -sp.gap(&pos(y, i), m.body.radius);
-        let vz = vel(y, i).z;
-        sp.law_of(m, vz)
-            .unloading_margin(k, m.body.mass, overlap, -vz)
+        let p = pos(y, i);
+        let overlap = -sp.gap(&p, m.body.radius);
+        let vn = sp.normal_velocity(&p, &vel(y, i));
+        sp.law_of(m, vn)
+            .unloading_margin(k, m.body.mass, overlap, -vn)
     }
 
     /// Member `i`'s nozzle-wall margin for `what`: the gap while approaching, the
@@ -1266,11 +1271,13 @@ impl Ctx<'_> {
                     && self.specimen_unloading(m, i, y) > 0.0
                     && {
                         let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-                        let overlap = -sp.gap(&pos(y, i), m.body.radius);
+                        let p = pos(y, i);
+                        let overlap = -sp.gap(&p, m.body.radius);
+                        let vn = sp.normal_velocity(&p, &vel(y, i));
                         let mu = fr.map_or(0.0, |f| f.specimen);
                         let size = 2.0 * m.body.radius;
                         let tol = self.phys.tolerance;
-                        kink_matters(tol, k, m.body.mass, (overlap, -vel(y, i).z), h, mu, size)
+                        kink_matters(tol, k, m.body.mass, (overlap, -vn), h, mu, size)
                     }
             }));
         // Per pair: pushing, and approaching at an impact's speed.
@@ -1429,17 +1436,18 @@ impl Ctx<'_> {
             .specimen
             .as_ref()
             .expect("BUG: specimen onset without specimen");
-        m.specimen_damping = sp.law_at(-v.z).damping;
+        let vn = sp.normal_velocity(p, v);
+        m.specimen_damping = sp.law_at(-vn).damping;
         m.on_specimen = true;
         let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
-        m.specimen_contact_time =
-            hertz::contact_time(m.body.mass, k, (-v.z).max(MIN_CONTACT_SPEED));
+        m.specimen_contact_time = hertz::contact_time(m.body.mass, k, (-vn).max(MIN_CONTACT_SPEED));
         m.specimen_onset = t;
         m.hits += 1;
         if m.hits == 1 {
             m.steps_to_first_contact = Some(m.steps);
         }
-        out.impacts.push(Impact::new(
+        out.impacts.push(Impact::on(
+            &sp.shape,
             m.id.0,
             t,
             p,
@@ -1710,7 +1718,7 @@ impl Ctx<'_> {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                     let overlap = -sp.gap(&p, m.body.radius);
                     cap = cap.min(in_contact(
-                        &sp.law_of(m, v.z),
+                        &sp.law_of(m, sp.normal_velocity(&p, &v)),
                         m.specimen_contact_time,
                         m.specimen_onset,
                         overlap,
@@ -1719,10 +1727,11 @@ impl Ctx<'_> {
                     ));
                 } else {
                     let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let vn = sp.normal_velocity(&p, &v);
                     cap = cap.min(approach(
-                        &sp.law_at(-v.z),
+                        &sp.law_at(-vn),
                         sp.gap(&p, m.body.radius),
-                        -v.z,
+                        -vn,
                         m.body.mass,
                         k,
                         cap,
@@ -1879,7 +1888,8 @@ impl Ctx<'_> {
                 if m.on_specimen && fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
                     let mu = fr.map_or(0.0, |f| f.specimen);
                     let (tc, on) = (m.specimen_contact_time, m.specimen_onset);
-                    one(y1, &sp.law_of(m, v.z), k, tc, on, Vec3::z(), mu);
+                    let law = sp.law_of(m, sp.normal_velocity(&p, &v));
+                    one(y1, &law, k, tc, on, sp.normal(&p), mu);
                 }
             }
             if let Some(w) = &c.wall {
@@ -3314,7 +3324,7 @@ fn kick_spin(y: &mut [f64], acc: &[f64], n: usize, i: usize, dt: f64) {
 }
 
 /// Where a velocity-Verlet step (length `h`, ending at state `y` with forces `acc`, having
-/// started with forces `prev`) of member `i` (radius `r`) touched the specimen plane: the
+/// started with forces `prev`) of member `i` (radius `r`) touched the specimen `shape`: the
 /// time into the step, the centre and the velocity there. The step started at
 /// `x0, v0` (its two half kicks undone) and drifted along `x0 + v0 s + a0 s^2 / 2`, which
 /// at `s = h` is exactly the position it ended at; before the touch only the forces at
@@ -3322,6 +3332,7 @@ fn kick_spin(y: &mut [f64], acc: &[f64], n: usize, i: usize, dt: f64) {
 /// code sees the contact, takes the impact up to a step late and already slowed by the
 /// contact: 3.5e-3 of the impact speed for a 70 m/s shot at 20 ns steps.)
 fn touch_state(
+    shape: &SpecimenShape,
     y: &[f64],
     acc: &[f64],
     prev: &[f64],
@@ -3332,6 +3343,25 @@ fn touch_state(
     let (a0, a1) = (vel(prev, i), vel(acc, i));
     let v_half = vel(y, i) - 0.5 * h * a1;
     let (x0, v0) = (pos(y, i) - h * v_half, v_half - 0.5 * h * a0);
+    let at = |s: f64| x0 + v0 * s + 0.5 * a0 * s * s;
+    if !shape.is_plane() {
+        // Positive at the start, negative at the end: bisected to 1e-12 of the step
+        // (the drift's gap is smooth and, over a contact-sized step, monotone).
+        let gap = |s: f64| shape.distance(&at(s)) - r;
+        let (mut lo, mut hi) = (0.0, h);
+        if gap(0.0) <= 0.0 {
+            hi = 0.0;
+        }
+        while hi - lo > 1e-12 * h {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        return (hi, at(hi), v0 + a0 * hi);
+    }
     // gap(s) = x0.z + v0.z s + a0.z s^2 / 2 - r: positive at the start, negative at the
     // end; its first root in [0, h].
     let (qa, qb, qc) = (0.5 * a0.z, v0.z, x0.z - r);
@@ -3572,7 +3602,14 @@ fn advance_verlet(
         ctx.apply_events(members, pairs, t, y, out);
         for imp in &mut out.impacts[recorded..] {
             if let Some(i) = members.iter().position(|m| m.id.0 == imp.shot) {
-                let (s, p, v) = touch_state(y, acc, prev, i, h, members[i].body.radius);
+                let shape = &ctx
+                    .phys
+                    .contacts
+                    .specimen
+                    .as_ref()
+                    .expect("BUG: impact without specimen")
+                    .shape;
+                let (s, p, v) = touch_state(shape, y, acc, prev, i, h, members[i].body.radius);
                 let w = if spin {
                     // The spin the step carried across its drift.
                     omega(y, n, i) - 0.5 * h * omega(acc, n, i)
@@ -3581,7 +3618,18 @@ fn advance_verlet(
                 };
                 let (r, mass) = (members[i].body.radius, members[i].body.mass);
                 let (before, first) = (imp.collisions_before, imp.first_hit == 1);
-                *imp = Impact::new(imp.shot, t - h + s, &p, &v, &w, r, mass, before, first);
+                *imp = Impact::on(
+                    shape,
+                    imp.shot,
+                    t - h + s,
+                    &p,
+                    &v,
+                    &w,
+                    r,
+                    mass,
+                    before,
+                    first,
+                );
             }
         }
         observer(t, y);

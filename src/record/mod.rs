@@ -8,6 +8,7 @@
 pub mod figure;
 
 use crate::Vec3;
+use crate::contact::specimen::SpecimenShape;
 use serde::Serialize;
 
 /// One shot-specimen contact, at its first instant.
@@ -17,11 +18,11 @@ pub struct Impact {
     pub shot: u32,
     /// First-contact time, s.
     pub time_s: f64,
-    /// Contact point x, m (specimen plane).
+    /// Contact point x, m (on the specimen surface: the centre's foot on it).
     pub x_m: f64,
     /// Contact point y, m.
     pub y_m: f64,
-    /// Contact point z, m (0: the specimen plane).
+    /// Contact point z, m (0 on the flat specimen).
     pub z_m: f64,
     /// Velocity x, m/s.
     pub vx_m_s: f64,
@@ -31,7 +32,8 @@ pub struct Impact {
     pub vz_m_s: f64,
     /// Speed `|v|`, m/s.
     pub speed_m_s: f64,
-    /// Normal speed towards the specimen `-v.n`, m/s.
+    /// Normal speed towards the specimen `-v.n` (`n` its outward normal at the contact
+    /// point), m/s.
     pub normal_speed_m_s: f64,
     /// Impact angle from the specimen normal, degrees (0 = head-on).
     pub angle_deg: f64,
@@ -45,7 +47,8 @@ pub struct Impact {
     pub center_x_m: f64,
     /// Shot centre y, m.
     pub center_y_m: f64,
-    /// Shot centre z, m (the radius, up to the located onset's round-off).
+    /// Shot centre z, m (on the flat specimen: the radius, up to the located onset's
+    /// round-off).
     pub center_z_m: f64,
     /// Shot mass, kg.
     pub mass_kg: f64,
@@ -77,15 +80,56 @@ impl Impact {
         collisions_before: u32,
         first_hit: bool,
     ) -> Self {
-        let normal = -vel.z;
-        let tangential = (vel.x * vel.x + vel.y * vel.y).sqrt();
+        Self::on(
+            &SpecimenShape::Plane,
+            shot,
+            t,
+            pos,
+            vel,
+            omega,
+            radius,
+            mass,
+            collisions_before,
+            first_hit,
+        )
+    }
+
+    /// [`Impact::new`] on the specimen surface `shape`: the contact point is the
+    /// centre's foot on the surface, and the normal and tangential speeds and the angle
+    /// are taken against the surface's outward normal there (the contact point's
+    /// offset from the centre gives that normal back: `(centre - point) / radius`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn on(
+        shape: &SpecimenShape,
+        shot: u32,
+        t: f64,
+        pos: &Vec3,
+        vel: &Vec3,
+        omega: &Vec3,
+        radius: f64,
+        mass: f64,
+        collisions_before: u32,
+        first_hit: bool,
+    ) -> Self {
+        let (point, normal, tangential) = match shape {
+            SpecimenShape::Plane => (
+                Vec3::new(pos.x, pos.y, 0.0),
+                -vel.z,
+                (vel.x * vel.x + vel.y * vel.y).sqrt(),
+            ),
+            SpecimenShape::Cylinder { .. } => {
+                let n = shape.normal(pos);
+                let vn = vel.dot(&n);
+                (pos - n * (shape.distance(pos)), -vn, (vel - n * vn).norm())
+            }
+        };
         let speed = vel.norm();
         Impact {
             shot,
             time_s: t,
-            x_m: pos.x,
-            y_m: pos.y,
-            z_m: 0.0,
+            x_m: point.x,
+            y_m: point.y,
+            z_m: point.z,
             vx_m_s: vel.x,
             vy_m_s: vel.y,
             vz_m_s: vel.z,

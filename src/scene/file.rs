@@ -362,12 +362,23 @@ pub struct ListShotFile {
 pub struct SpecimenFile {
     /// Specimen material (library name). Table 2: steel E = 210 GPa.
     pub material: String,
+    /// Surface: "plane" (the paper's flat plate, `z = 0`) or "cylinder" (beyond the
+    /// paper: a bar or a spring's wire, its crest line at `z = 0` through the origin).
+    pub shape: String,
+    /// Cylinder radius, mm (`shape = "cylinder"` only).
+    pub radius_mm: Option<f64>,
+    /// Direction of the cylinder's horizontal axis, degrees from +x (`shape =
+    /// "cylinder"` only; default 90: along y).
+    pub axis_deg: Option<f64>,
 }
 
 impl Default for SpecimenFile {
     fn default() -> Self {
         SpecimenFile {
             material: "table2-steel".into(),
+            shape: "plane".into(),
+            radius_mm: None,
+            axis_deg: None,
         }
     }
 }

@@ -440,6 +440,8 @@ pub struct Scene {
     pub shot_material: Material,
     /// Specimen material.
     pub specimen_material: Material,
+    /// Specimen surface (`[specimen] shape`).
+    pub specimen_shape: crate::contact::specimen::SpecimenShape,
     /// Nozzle-wall material.
     pub nozzle_material: Material,
     /// Feed.

@@ -560,6 +560,57 @@ impl SceneFile {
         let shot_material = c.material("shots.material", &s.material, &user)?;
         let r_max = 0.5 * d_max;
 
+        let sf = &f.specimen;
+        let specimen_shape = match sf.shape.as_str() {
+            "plane" => {
+                for (key, given) in [
+                    ("specimen.radius_mm", sf.radius_mm.is_some()),
+                    ("specimen.axis_deg", sf.axis_deg.is_some()),
+                ] {
+                    if given {
+                        return Err(c.invalid(
+                            key,
+                            "only a cylinder has a radius and an axis: set shape = \"cylinder\", \
+                             or leave the key out for the flat specimen",
+                        ));
+                    }
+                }
+                crate::contact::specimen::SpecimenShape::Plane
+            }
+            "cylinder" => {
+                let Some(radius_mm) = sf.radius_mm else {
+                    return Err(c.invalid(
+                        "specimen.radius_mm",
+                        "shape = \"cylinder\" needs the cylinder's radius_mm (at least the \
+                         largest shot's radius)",
+                    ));
+                };
+                // The elliptic contact's equivalent radius is good to 1e-3 of the load
+                // for a cylinder at least as large as the shot (`SpecimenShape::effective_radius`).
+                let r_max = 0.5 * sizes.max_diameter() * 1e3;
+                let radius = c.range(
+                    "specimen.radius_mm",
+                    radius_mm,
+                    B::In(r_max),
+                    B::In(1e4),
+                    "mm (from the largest shot's radius)",
+                )? * 1e-3;
+                let axis = c.range(
+                    "specimen.axis_deg",
+                    sf.axis_deg.unwrap_or(90.0),
+                    B::In(0.0),
+                    B::Ex(180.0),
+                    "degrees from +x",
+                )?;
+                crate::contact::specimen::SpecimenShape::cylinder(radius, axis.to_radians())
+            }
+            other => {
+                return Err(c.invalid(
+                    "specimen.shape",
+                    format!("unknown value \"{other}\"; allowed: \"plane\", \"cylinder\""),
+                ));
+            }
+        };
         let feed = match &s.feed {
             FeedFile::Batch {
                 count,
@@ -849,10 +900,23 @@ impl SceneFile {
                     let pos =
                         crate::Vec3::new(sh.position_mm[0], sh.position_mm[1], sh.position_mm[2])
                             * 1e-3;
-                    if pos.z < 0.5 * d {
+                    let above = specimen_shape.distance(&pos);
+                    // (On a cylinder the distance carries a square root's rounding: a
+                    // shot laid on the crest at z = r must pass.)
+                    let slack = if specimen_shape.is_plane() {
+                        0.0
+                    } else {
+                        1e-9 * d
+                    };
+                    if above < 0.5 * d - slack {
+                        let from = if specimen_shape.is_plane() {
+                            "above the specimen"
+                        } else {
+                            "from the cylinder's surface"
+                        };
                         return Err(c.invalid(
                             &format!("{k}.position_mm"),
-                            format!("the shot's centre is {} mm above the specimen, less than its radius {} mm: it would start inside the specimen", num(pos.z * 1e3), num(0.5 * d * 1e3)),
+                            format!("the shot's centre is {} mm {from}, less than its radius {} mm: it would start inside the specimen", num(above * 1e3), num(0.5 * d * 1e3)),
                         ));
                     }
                     if let Some(g) = nozzle.tube().geometry(&pos, 0.5 * d)
@@ -1082,6 +1146,13 @@ impl SceneFile {
                 "ms",
             )? * 1e-3,
         };
+        if let (Feed::Bed { .. }, false) = (&feed, specimen_shape.is_plane()) {
+            return Err(c.invalid(
+                "shots.feed.type",
+                "\"bed\" rests its layers on a flat specimen: use [specimen] shape = \"plane\" \
+                 for a bed",
+            ));
+        }
         let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
         let effects = EffectRequest::from_value(f.effects.as_ref(), path)?;
         let turbulence_asked = effects.switches[7] == super::effects::Switch::On
@@ -1124,6 +1195,7 @@ impl SceneFile {
                     B::In(1e5),
                     "mm",
                 )? * 1e-3,
+            bottom: specimen_shape.floor(0.5 * sizes.max_diameter()),
         };
         Ok(Scene {
             path: path.to_string(),
@@ -1139,6 +1211,7 @@ impl SceneFile {
             sizes,
             shot_material,
             specimen_material,
+            specimen_shape,
             nozzle_material,
             feed,
             restitution,

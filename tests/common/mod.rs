@@ -98,6 +98,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
             specimen: specimen_e.map(|e| SpecimenContact {
                 law: law(e),
                 by_speed: None,
+                shape: peenflow::contact::specimen::SpecimenShape::Plane,
             }),
             wall: None,
             pair: pair_e.map(|e| PairContact { law: law(e) }),
@@ -108,6 +109,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
         domain: Domain {
             radius: 10.0,
             top: 10.0,
+            bottom: f64::NEG_INFINITY,
         },
         max_step: 1e-3,
         method: peenflow::integrate::island::Method::Adaptive,
