@@ -3,6 +3,7 @@
 //! step and contact counts. Statistics are over first hits (one per shot, as the paper
 //! counts particles); rebound hits are counted separately.
 
+use crate::contact::specimen::SpecimenShape;
 use crate::counters::WorkCounters;
 use crate::record::{Impact, RunEvent};
 use crate::scene::{EffectDecision, Scene};
@@ -208,6 +209,10 @@ pub struct Summary {
     pub speed_m_s: Option<Stats>,
     /// Distance of first hits from the jet axis, m.
     pub radius_m: Option<Stats>,
+    /// On a cylindrical specimen: where first hits sit around it, m of arc from its
+    /// crest line (signed; `SpecimenShape::unrolled`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub around_m: Option<Stats>,
     /// Normal impact speed of first hits in 5 m/s bins (paper Figure 12).
     pub normal_speed_histogram: Histogram,
     /// Impact radius of first hits in 5 mm bins (paper Figure 13).
@@ -252,6 +257,8 @@ pub struct SummaryBuilder {
     normal: Vec<f64>,
     speed: Vec<f64>,
     radius: Vec<f64>,
+    around: Vec<f64>,
+    shape: SpecimenShape,
     impacts: usize,
     shots: usize,
     shots_hit: usize,
@@ -270,6 +277,10 @@ impl RunSink for SummaryBuilder {
             self.normal.push(i.normal_speed_m_s);
             self.speed.push(i.speed_m_s);
             self.radius.push(i.radius_m());
+            if !self.shape.is_plane() {
+                let p = crate::Vec3::new(i.x_m, i.y_m, i.z_m);
+                self.around.push(self.shape.unrolled(&p).0);
+            }
         }
     }
 
@@ -293,6 +304,14 @@ impl RunSink for SummaryBuilder {
 }
 
 impl SummaryBuilder {
+    /// A builder for a run on the specimen surface `shape`.
+    pub fn on(shape: SpecimenShape) -> Self {
+        SummaryBuilder {
+            shape,
+            ..Default::default()
+        }
+    }
+
     /// The summary of the run whose records this builder received.
     pub fn finish(
         self,
@@ -329,6 +348,7 @@ impl SummaryBuilder {
             normal_speed_m_s: Stats::of(&self.normal),
             speed_m_s: Stats::of(&self.speed),
             radius_m: Stats::of(&self.radius),
+            around_m: Stats::of(&self.around),
             normal_speed_histogram: Histogram::new(
                 "normal impact speed, m/s",
                 &self.normal,
@@ -381,7 +401,7 @@ impl Summary {
         wall_time: f64,
         threads: usize,
     ) -> Summary {
-        let mut b = SummaryBuilder::default();
+        let mut b = SummaryBuilder::on(scene.specimen_shape);
         b.impacts(&out.impacts);
         for s in &out.shots {
             b.shot(s);
@@ -440,6 +460,18 @@ impl Summary {
                 r.p10 * 1e3,
                 r.p90 * 1e3,
                 r.max * 1e3
+            );
+        }
+        if let Some(a) = &self.around_m {
+            let _ = writeln!(
+                s,
+                "around the bar, mm of arc from its crest (first hits): mean {:.2}  median {:.2}  p10 {:.2}  p90 {:.2}  min {:.2}  max {:.2}",
+                a.mean * 1e3,
+                a.median * 1e3,
+                a.p10 * 1e3,
+                a.p90 * 1e3,
+                a.min * 1e3,
+                a.max * 1e3
             );
         }
         for h in [&self.normal_speed_histogram, &self.radius_histogram] {

@@ -362,3 +362,82 @@ fn a_measured_dent_curve_replaces_the_material_model() {
         assert!(!t.path().join("bad").exists());
     }
 }
+
+/// On a cylindrical specimen the dents sit on its unrolled surface: an impact 40 degrees
+/// around a 5 mm bar, 3 mm along it, dents at 5 mm x 40 degrees of arc and 3 mm, sized
+/// by its speed normal to the surface; the map and `--window` take those coordinates
+/// (the command end to end on a run onto a bar).
+#[test]
+fn dents_on_a_bar_sit_on_its_unrolled_surface() {
+    use peenflow::Vec3;
+    use peenflow::contact::specimen::SpecimenShape;
+    use peenflow::coverage::{dent::DentModel, dents, dents_on};
+    use peenflow::record::Impact;
+    let bar = SpecimenShape::cylinder(5e-3, 90f64.to_radians());
+    let th = 40f64.to_radians();
+    let n = Vec3::new(th.sin(), 0.0, th.cos());
+    let centre = Vec3::new(0.0, 3e-3, -5e-3) + n * 5.4e-3;
+    let v = n * -50.0 + Vec3::new(0.0, 10.0, 0.0);
+    let imp = Impact::on(
+        &bar,
+        0,
+        1e-3,
+        &centre,
+        &v,
+        &Vec3::zeros(),
+        4e-4,
+        2e-6,
+        0,
+        true,
+    );
+    assert!((imp.normal_speed_m_s - 50.0).abs() < 1e-12);
+    let model = DentModel::for_pair(
+        &peenflow::scene::material::builtin("SUJ-2").unwrap(),
+        &peenflow::scene::material::builtin("A5052").unwrap(),
+    );
+    let d = dents_on(std::slice::from_ref(&imp), &model, &bar)[0];
+    assert!(
+        (d.x - 5e-3 * th).abs() < 1e-15 && (d.y - 3e-3).abs() < 1e-15,
+        "{d:?}"
+    );
+    // The same normal speed head-on on the plate: the same dent.
+    let flat = Impact::new(
+        0,
+        1e-3,
+        &Vec3::new(0.0, 0.0, 4e-4),
+        &Vec3::new(0.0, 0.0, -50.0),
+        &Vec3::zeros(),
+        4e-4,
+        2e-6,
+        0,
+        true,
+    );
+    assert!((dents(&[flat], &model)[0].r / d.r - 1.0).abs() < 1e-12);
+
+    // End to end: the spring wire's coverage names the bar's axes.
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::root().join("examples/spring_wire.toml");
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("duration_ms = 30.0", "duration_ms = 8.0");
+    std::fs::write(tmp.path().join("wire.toml"), text).unwrap();
+    let o = peenflow(&["run", "wire.toml", "--out", "run", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--out",
+            "cov",
+            "--window",
+            "-1,-1,1,1",
+        ],
+        tmp.path(),
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        out.contains("window around the bar -1.00..1.00 mm, along its axis -1.00..1.00 mm"),
+        "{out}"
+    );
+}

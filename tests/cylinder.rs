@@ -231,6 +231,14 @@ fn a_stream_onto_a_bar_is_the_same_on_one_and_two_threads() {
     let text = "duration_ms = 8.0\n[specimen]\nshape = \"cylinder\"\nradius_mm = 1.0\n\
                 [shots.feed]\ntype = \"stream\"\nrate_per_s = 20000.0\n";
     let scene = Scene::from_toml(text, "bar_stream.toml").unwrap();
+    // The run's list of effects says what the specimen is.
+    let said = &scene.effects().decisions[3];
+    assert!(
+        said.reason
+            .ends_with("; a cylinder of radius 1 mm, its axis at 90 degrees from +x"),
+        "{}",
+        said.reason
+    );
     let one = run_scene_on(1, &scene);
     let two = run_scene_on(2, &scene);
     assert_eq!(one.impacts, two.impacts);

@@ -48,7 +48,9 @@ pub struct CoverageArgs {
     /// Impact file written by `peenflow run` (impacts.h5).
     pub impacts: PathBuf,
     /// Window on the specimen, mm: x0,y0,x1,y1 (default: a square around the median
-    /// impact point, half side the median distance of the impacts from it).
+    /// impact point, half side the median distance of the impacts from it). On a
+    /// cylindrical specimen, on its unrolled surface: the arc length around the bar from
+    /// its crest, then the distance along its axis.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub window: Option<Vec<f64>>,
     /// Cell size, um (default: a fifth of the median dent radius; enlarged, with a note,
@@ -83,7 +85,8 @@ pub struct CoverageArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub traverse_mm_s: Option<f64>,
     /// Direction of travel in the specimen plane, degrees from +x (default 0; with
-    /// --traverse-mm-s).
+    /// --traverse-mm-s). On a cylindrical specimen, on its unrolled surface: 0 is the
+    /// bar turning under the nozzle (its surface speed), 90 the nozzle moving along it.
     #[arg(long, allow_negative_numbers = true)]
     pub traverse_deg: Option<f64>,
     /// Distance between neighbouring passes of a raster, mm (with --traverse-mm-s;

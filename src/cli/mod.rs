@@ -139,8 +139,8 @@ fn run_scene(a: RunArgs) -> Result<()> {
     let mut sink = (
         output::RunWriter::create(&a.out)?,
         (
-            crate::summary::SummaryBuilder::default(),
-            crate::record::figure::ImpactFigure::default(),
+            crate::summary::SummaryBuilder::on(scene.specimen_shape),
+            crate::record::figure::ImpactFigure::on(scene.specimen_shape),
         ),
     );
     // A run redone on windows starts its progress again: say why at that moment.
@@ -181,6 +181,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
             units: UnitSystem::MmTonneS,
             selection: Selection {
                 seed: scene.seed,
+                shape: scene.specimen_shape,
                 ..Selection::default()
             },
             rigid_shots: true,
@@ -291,6 +292,7 @@ fn export(a: ExportArgs) -> Result<()> {
         first: a.first,
         sample: a.sample,
         seed: a.seed.unwrap_or(file.seed),
+        shape: scene.specimen_shape,
     };
     let req = ExportRequest {
         formats,
@@ -641,11 +643,13 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         );
     }
     println!(
-        "{} dents, median diameter {:.3} mm; window x {:.2}..{:.2} mm, y {:.2}..{:.2} mm, {} x {} cells of {:.1} um",
+        "{} dents, median diameter {:.3} mm; window {} {:.2}..{:.2} mm, {} {:.2}..{:.2} mm, {} x {} cells of {:.1} um",
         r.dents,
         r.median_dent_diameter * 1e3,
+        r.axes.0,
         c.window[0] * 1e3,
         c.window[2] * 1e3,
+        r.axes.1,
         c.window[1] * 1e3,
         c.window[3] * 1e3,
         c.nx,

@@ -11,9 +11,10 @@ use crate::Vec3;
 use crate::state::ShotState;
 
 /// The specimen's surface.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum SpecimenShape {
     /// The plane `z = 0`, normal `+z` (the paper's specimen).
+    #[default]
     Plane,
     /// A convex cylinder of `radius` (m) whose axis runs along the horizontal unit vector
     /// `axis` through `(0, 0, -radius)`: its crest line is `z = 0` through the origin.
@@ -96,6 +97,30 @@ impl SpecimenShape {
             SpecimenShape::Cylinder { radius: rc, .. } => {
                 (radius * (radius * rc / (radius + rc))).sqrt()
             }
+        }
+    }
+
+    /// Coordinates of the surface point `point` on the unrolled surface, m: on the plane
+    /// `(x, y)`; on the cylinder the arc length from the crest line around the axis
+    /// (positive towards `axis x +z`, i.e. towards +x for an axis along y) and the
+    /// distance along the axis from the origin. Maps of dents and coverage are drawn in
+    /// these.
+    pub fn unrolled(&self, point: &Vec3) -> (f64, f64) {
+        match self {
+            SpecimenShape::Plane => (point.x, point.y),
+            SpecimenShape::Cylinder { radius, axis } => {
+                let across = axis.cross(&Vec3::z());
+                let d = Self::radial(point, *radius, axis);
+                (radius * d.dot(&across).atan2(d.z), point.dot(axis))
+            }
+        }
+    }
+
+    /// Names of the unrolled coordinates ([`SpecimenShape::unrolled`]), for axes.
+    pub fn unrolled_names(&self) -> (&'static str, &'static str) {
+        match self {
+            SpecimenShape::Plane => ("x", "y"),
+            SpecimenShape::Cylinder { .. } => ("around the bar", "along its axis"),
         }
     }
 
@@ -189,5 +214,50 @@ impl SpecimenContact {
             Some(_) if m.on_specimen => self.law.with_damping(m.specimen_damping),
             Some(_) => self.law_at(-vn),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cylinders_geometry_and_unrolled_surface() {
+        // A 5 mm bar along y (axis 90 degrees); a point 40 degrees around it towards +x,
+        // 2 mm out from the surface and 3 mm along the axis.
+        let bar = SpecimenShape::cylinder(5e-3, 90f64.to_radians());
+        let th = 40f64.to_radians();
+        let p = Vec3::new(7e-3 * th.sin(), 3e-3, 7e-3 * th.cos() - 5e-3);
+        assert!((bar.distance(&p) - 2e-3).abs() < 1e-15);
+        let n = bar.normal(&p);
+        assert!((n - Vec3::new(th.sin(), 0.0, th.cos())).norm() < 1e-15);
+        let v = Vec3::new(1.0, 2.0, -3.0);
+        assert!((bar.normal_velocity(&p, &v) - v.dot(&n)).abs() < 1e-15);
+        let foot = p - n * 2e-3;
+        let (u, w) = bar.unrolled(&foot);
+        assert!((u - 5e-3 * th).abs() < 1e-15 && (w - 3e-3).abs() < 1e-15);
+        // The other side is negative; along x the axis turns the frame with it.
+        let q = Vec3::new(-foot.x, foot.y, foot.z);
+        assert!((bar.unrolled(&q).0 + 5e-3 * th).abs() < 1e-15);
+        let along_x = SpecimenShape::cylinder(5e-3, 0.0);
+        let (u, w) = along_x.unrolled(&Vec3::new(3e-3, -foot.x, foot.z));
+        assert!((u - 5e-3 * th).abs() < 1e-15 && (w - 3e-3).abs() < 1e-15);
+        // The plane: as before.
+        let plate = SpecimenShape::Plane;
+        assert_eq!(plate.distance(&p), p.z);
+        assert_eq!(plate.normal(&p), Vec3::z());
+        assert_eq!(plate.unrolled(&p), (p.x, p.y));
+        assert_eq!(plate.floor(1e-3), f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn the_elliptic_contacts_radius_lies_between_the_shot_and_its_half() {
+        let r = 4e-4;
+        assert_eq!(SpecimenShape::Plane.effective_radius(r), r);
+        // A bar as thin as the shot: sqrt(r r/2); a wide one: the plate's r.
+        let thin = SpecimenShape::cylinder(r, 0.0).effective_radius(r);
+        assert!((thin - r / 2f64.sqrt()).abs() < 1e-18);
+        let wide = SpecimenShape::cylinder(1.0, 0.0).effective_radius(r);
+        assert!((wide / r - 1.0).abs() < 3e-4);
     }
 }

@@ -14,6 +14,7 @@ pub mod dent;
 pub mod output;
 pub mod traverse;
 
+use crate::contact::specimen::SpecimenShape;
 use crate::record::Impact;
 use dent::DentModel;
 
@@ -30,16 +31,26 @@ pub struct Dent {
     pub t: f64,
 }
 
-/// Dents of the impacts with a positive normal speed.
+/// Dents of the impacts with a positive normal speed, on the flat specimen.
 pub fn dents(impacts: &[Impact], model: &DentModel) -> Vec<Dent> {
+    dents_on(impacts, model, &SpecimenShape::Plane)
+}
+
+/// [`dents`] on the specimen surface `shape`, placed on its unrolled surface
+/// ([`SpecimenShape::unrolled`]: on a cylinder, the arc length around the bar and the
+/// distance along its axis). A dent is far smaller than the bar, so it is a disc there.
+pub fn dents_on(impacts: &[Impact], model: &DentModel, shape: &SpecimenShape) -> Vec<Dent> {
     impacts
         .iter()
         .filter(|i| i.normal_speed_m_s > 0.0)
-        .map(|i| Dent {
-            x: i.x_m,
-            y: i.y_m,
-            r: model.radius(0.5 * i.diameter_m, i.mass_kg, i.normal_speed_m_s),
-            t: i.time_s,
+        .map(|i| {
+            let (x, y) = shape.unrolled(&crate::Vec3::new(i.x_m, i.y_m, i.z_m));
+            Dent {
+                x,
+                y,
+                r: model.radius(0.5 * i.diameter_m, i.mass_kg, i.normal_speed_m_s),
+                t: i.time_s,
+            }
         })
         .collect()
 }

@@ -3,7 +3,7 @@
 //! `/coverage` group to the impact file (rewritten atomically).
 
 use super::traverse::{self, Point, Track, Traverse};
-use super::{Coverage, DentModel, compute, default_window, dents};
+use super::{Coverage, DentModel, compute, default_window, dents_on};
 use crate::export::hdf5::{self as h5, Column, H5Error, werr, write_columns};
 use crate::plot::{self, Field, PlotError, Series};
 use crate::scene::{Material, Scene};
@@ -57,6 +57,8 @@ pub struct Report {
     pub track: Option<Track>,
     /// Whether the run's feed is a steady stream (what [`traverse`] assumes).
     pub steady_feed: bool,
+    /// The window's coordinates: the plane's `x`, `y`, or a cylinder's unrolled surface.
+    pub axes: (&'static str, &'static str),
 }
 
 /// Errors of the coverage command.
@@ -128,7 +130,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
             .filter(|(_, s)| **s == seed)
             .map(|(i, _)| i.clone())
             .collect();
-        dents(&impacts, &model)
+        dents_on(&impacts, &model, &scene.specimen_shape)
     };
     let ds = dents_of(seed);
     if ds.is_empty() {
@@ -222,7 +224,10 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
             cov.dents_in_window,
             cov.exposure * 1e3
         ),
-        ("x, mm", "y, mm"),
+        (
+            &format!("{}, mm", scene.specimen_shape.unrolled_names().0),
+            &format!("{}, mm", scene.specimen_shape.unrolled_names().1),
+        ),
         &Field {
             extent: [
                 window[0] * 1e3,
@@ -278,6 +283,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         seed: (seed, seeds.len().max(1)),
         track,
         steady_feed,
+        axes: scene.specimen_shape.unrolled_names(),
     })
 }
 

@@ -9,7 +9,9 @@
 //! impacts; and an explicit step long enough for the last impact and its rebound.
 //! Meshes come from `crate::mesh`; units are SI or mm-tonne-s.
 
+use crate::Vec3;
 use crate::contact::hertz;
+use crate::contact::specimen::SpecimenShape;
 use crate::mesh::{Face, Mesh, block, sphere};
 use crate::record::Impact;
 use crate::scene::Material;
@@ -167,6 +169,9 @@ pub enum DeckError {
         /// [`MAX_TARGET_ELEMENTS`].
         limit: u64,
     },
+    /// The target block cannot be bent around the cylindrical specimen.
+    #[error("{0}")]
+    Bend(String),
     /// The template failed.
     #[error("{template}: {message}")]
     Template {
@@ -196,6 +201,8 @@ pub struct DeckSettings {
     pub source: String,
     /// Selection description (for the deck header).
     pub selection: String,
+    /// The specimen's surface: on a cylinder the target block is bent around it.
+    pub shape: SpecimenShape,
 }
 
 /// A node for the templates.
@@ -364,8 +371,12 @@ pub struct FeModel {
     pub selection: String,
     /// Units.
     pub units: Units,
-    /// Specimen coordinates (deck length unit) of the model origin.
+    /// Specimen coordinates (deck length unit) of the model origin (on a cylinder: on
+    /// its unrolled surface, the arc length around it and the distance along its axis).
     pub origin: [f64; 2],
+    /// The target's geometry in model coordinates, for the deck's header (on a
+    /// cylinder, the origin's coordinates are on its unrolled surface).
+    pub geometry: String,
     /// All nodes.
     pub nodes: Vec<NodeCtx>,
     /// Target.
@@ -418,6 +429,13 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         .map(|i| 0.5 * i.diameter_m)
         .fold(0.0, f64::max);
     let h = s.element_size.unwrap_or(r_max / 4.0);
+    // Where the impacts sit on the specimen's surface: on the plane (x, y); on a
+    // cylinder its unrolled surface, where the target block is laid out before it is
+    // bent around the bar (`Bend`).
+    let at: Vec<(f64, f64)> = impacts
+        .iter()
+        .map(|i| s.shape.unrolled(&Vec3::new(i.x_m, i.y_m, i.z_m)))
+        .collect();
     // Model origin: centre of the impacts' bounding box.
     let (mut x0, mut x1, mut y0, mut y1) = (
         f64::INFINITY,
@@ -425,11 +443,11 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         f64::INFINITY,
         f64::NEG_INFINITY,
     );
-    for i in impacts {
-        x0 = x0.min(i.x_m);
-        x1 = x1.max(i.x_m);
-        y0 = y0.min(i.y_m);
-        y1 = y1.max(i.y_m);
+    for &(x, y) in &at {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
     }
     let (ox, oy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
     // Target block: refined zones (one radius) around every impact, growing by 1.5 per
@@ -437,13 +455,13 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
     // rebound and energy balance barely move with larger blocks, the run time does.
     let zone = r_max;
     let margin = 2.5 * r_max;
-    let xz: Vec<(f64, f64)> = impacts
+    let xz: Vec<(f64, f64)> = at
         .iter()
-        .map(|i| (i.x_m - ox - zone, i.x_m - ox + zone))
+        .map(|&(x, _)| (x - ox - zone, x - ox + zone))
         .collect();
-    let yz: Vec<(f64, f64)> = impacts
+    let yz: Vec<(f64, f64)> = at
         .iter()
-        .map(|i| (i.y_m - oy - zone, i.y_m - oy + zone))
+        .map(|&(_, y)| (y - oy - zone, y - oy + zone))
         .collect();
     let xs = block::graded_axis(x0 - ox - margin, x1 - ox + margin, &xz, h, 1.5, r_max);
     let ys = block::graded_axis(y0 - oy - margin, y1 - oy + margin, &yz, h, 1.5, r_max);
@@ -463,9 +481,43 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
             limit: MAX_TARGET_ELEMENTS,
         });
     }
+    let bend = Bend::new(&s.shape, ox, oy, xs[0], xs[xs.len() - 1], depth)?;
     let mut mesh = block::graded_block(&xs, &ys, &zs);
-    let n_target_nodes = mesh.nodes.len() as u32;
+    // The impact zones are chosen on the flat block (on the unrolled surface), before
+    // it is bent.
+    let centroid = |m: &Mesh, id: u32| {
+        let e = &m.elements[(id - 1) as usize];
+        e.nodes.iter().fold([0.0; 3], |acc, &n| {
+            let p = m.nodes[(n - 1) as usize];
+            [
+                acc[0] + p[0] / 8.0,
+                acc[1] + p[1] / 8.0,
+                acc[2] + p[2] / 8.0,
+            ]
+        })
+    };
+    let near = |c: [f64; 3], d: f64| {
+        at.iter()
+            .any(|&(x, y)| ((c[0] + ox - x).powi(2) + (c[1] + oy - y).powi(2)).sqrt() < d)
+    };
     let n_target_elements = mesh.elements.len() as u32;
+    let impact_zone: Vec<u32> = (1..=n_target_elements)
+        .filter(|&id| {
+            let c = centroid(&mesh, id);
+            c[2] > -r_max && near(c, 1.5 * r_max)
+        })
+        .collect();
+    let contact_top: Vec<Face> = mesh.surfaces["TOP"]
+        .iter()
+        .filter(|f| near(centroid(&mesh, f.element), 2.0 * r_max))
+        .copied()
+        .collect();
+    if let Some(b) = &bend {
+        for p in &mut mesh.nodes {
+            *p = b.node(*p);
+        }
+    }
+    let n_target_nodes = mesh.nodes.len() as u32;
 
     // Timing: the first shot starts a small clearance above its contact point.
     let t_first = impacts[0].time_s;
@@ -476,15 +528,33 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
     let rho_s = s.shot_material.density;
     for (k, i) in impacts.iter().enumerate() {
         let r = 0.5 * i.diameter_m;
-        let v = [i.vx_m_s, i.vy_m_s, i.vz_m_s];
+        let centre = [i.center_x_m, i.center_y_m, i.center_z_m];
+        let (v, contact, omega) = match &bend {
+            None => (
+                [i.vx_m_s, i.vy_m_s, i.vz_m_s],
+                [centre[0] - ox, centre[1] - oy, centre[2]],
+                [i.omega_x_rad_s, i.omega_y_rad_s, i.omega_z_rad_s],
+            ),
+            Some(b) => (
+                b.turn([i.vx_m_s, i.vy_m_s, i.vz_m_s]),
+                b.point(centre),
+                b.turn([i.omega_x_rad_s, i.omega_y_rad_s, i.omega_z_rad_s]),
+            ),
+        };
         let dt = i.time_s - t0;
-        let contact = [i.center_x_m - ox, i.center_y_m - oy, i.center_z_m];
         let start = [
             contact[0] - v[0] * dt,
             contact[1] - v[1] * dt,
             contact[2] - v[2] * dt,
         ];
-        let ball = sphere::hex_sphere(start, r, s.shot_cells);
+        let mut ball = sphere::hex_sphere(start, r, s.shot_cells);
+        if let Some(b) = &bend {
+            // The ball's lowest face centre where it touches the bar (as on the plate,
+            // where it touches below the centre): a faceted ball touching off a face
+            // centre is pushed sideways (measured with ccx: up to a fifth of the
+            // rebound).
+            b.face_down(&mut ball.nodes, start, contact);
+        }
         let name = format!("SHOT{}", k + 1);
         let (dn, de) = mesh.append(&ball, &format!("{name}_"));
         // Rigid shots get a reference and a rotation node at the centre (free nodes that
@@ -499,7 +569,6 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         };
         let mass = rho_s * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
         let speed = i.speed_m_s;
-        let omega = [i.omega_x_rad_s, i.omega_y_rad_s, i.omega_z_rad_s];
         let spin = omega.iter().map(|w| w * w).sum::<f64>().sqrt();
         let node_velocities = if spin > 0.0 {
             let rigid = |x: [f64; 3]| {
@@ -561,36 +630,6 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
             source_time_s: i.time_s,
         });
     }
-    let centroid = |m: &Mesh, id: u32| {
-        let e = &m.elements[(id - 1) as usize];
-        e.nodes.iter().fold([0.0; 3], |acc, &n| {
-            let p = m.nodes[(n - 1) as usize];
-            [
-                acc[0] + p[0] / 8.0,
-                acc[1] + p[1] / 8.0,
-                acc[2] + p[2] / 8.0,
-            ]
-        })
-    };
-    let impact_zone: Vec<u32> = (1..=n_target_elements)
-        .filter(|&id| {
-            let c = centroid(&mesh, id);
-            c[2] > -r_max
-                && impacts.iter().any(|i| {
-                    ((c[0] + ox - i.x_m).powi(2) + (c[1] + oy - i.y_m).powi(2)).sqrt() < 1.5 * r_max
-                })
-        })
-        .collect();
-    let contact_top: Vec<Face> = mesh.surfaces["TOP"]
-        .iter()
-        .filter(|f| {
-            let c = centroid(&mesh, f.element);
-            impacts.iter().any(|i| {
-                ((c[0] + ox - i.x_m).powi(2) + (c[1] + oy - i.y_m).powi(2)).sqrt() < 2.0 * r_max
-            })
-        })
-        .copied()
-        .collect();
     let scaled = mesh.scaled(u.length_factor);
     let elements_of = |lo: u32, hi: u32| -> Vec<ElementCtx> {
         (lo..=hi)
@@ -676,6 +715,14 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         source: s.source.clone(),
         selection: s.selection.clone(),
         origin: [ox * u.length_factor, oy * u.length_factor],
+        geometry: match &bend {
+            None => "specimen surface at z = 0; target below it".into(),
+            // (Short: LS-DYNA's comment line holds it within 80 columns.)
+            Some(b) => format!(
+                "bar R = {}, axis y, top at origin; target bent under it",
+                crate::scene::validate::num(b.radius * u.length_factor)
+            ),
+        },
         nodes: scaled
             .nodes
             .iter()
@@ -898,5 +945,110 @@ mod tests {
             assert!(s.contains('.'), "{s}");
             assert_eq!(s.parse::<f64>().unwrap(), x);
         }
+    }
+}
+
+/// The target block bent around a cylindrical specimen. The block is laid out flat on
+/// the unrolled surface (x: arc length around the bar from the model origin's, y:
+/// along the axis from the origin's, z: height above the surface, negative inside);
+/// `node` wraps it around the bar. Model coordinates: the world turned about the bar's
+/// axis so that the model origin (the middle of the impacts on the unrolled surface)
+/// is the crest: z along the surface normal there, y along the axis from the origin's
+/// axial coordinate, x across it; the axis runs through `(0, 0, -R)`. Shots and their
+/// velocities are only turned into this frame (`point`, `turn`): rigid motions.
+#[derive(Debug, Clone, Copy)]
+struct Bend {
+    radius: f64,
+    axis: Vec3,
+    across: Vec3,
+    /// The origin's angle around the axis from the crest, rad: `(cos, sin)`.
+    turn0: (f64, f64),
+    /// The origin's axial coordinate, m.
+    v0: f64,
+}
+
+impl Bend {
+    /// `None` on the plane; on a cylinder, refuses a block whose depth reaches the axis
+    /// or that would wrap around the bar (`u_lo..u_hi` about the origin's arc length
+    /// `u0`).
+    fn new(
+        shape: &SpecimenShape,
+        u0: f64,
+        v0: f64,
+        u_lo: f64,
+        u_hi: f64,
+        depth: f64,
+    ) -> Result<Option<Bend>, DeckError> {
+        let SpecimenShape::Cylinder { radius, axis } = *shape else {
+            return Ok(None);
+        };
+        if depth >= 0.8 * radius {
+            return Err(DeckError::Bend(format!(
+                "the target block is {:.3} mm deep (2.5 shot radii), too deep for the {:.3} mm \
+                 bar: a deck of a cylinder needs its radius above 1.25 times the depth, {:.3} mm",
+                depth * 1e3,
+                radius * 1e3,
+                depth * 1e3 / 0.8
+            )));
+        }
+        let (lo, hi) = ((u0 + u_lo) / radius, (u0 + u_hi) / radius);
+        if lo < -0.9 * std::f64::consts::PI || hi > 0.9 * std::f64::consts::PI {
+            return Err(DeckError::Bend(format!(
+                "the selected impacts and the block's margins span {:.0} to {:.0} degrees around \
+                 the bar, beyond the +-162 degrees a bent block may reach: select impacts on \
+                 one part of it (--window on the unrolled surface, mm of arc and along the axis)",
+                lo.to_degrees(),
+                hi.to_degrees()
+            )));
+        }
+        let theta0 = u0 / radius;
+        Ok(Some(Bend {
+            radius,
+            axis,
+            across: axis.cross(&Vec3::z()),
+            turn0: (theta0.cos(), theta0.sin()),
+            v0,
+        }))
+    }
+
+    /// A node of the flat block (relative to the origin) on the bar.
+    fn node(&self, p: [f64; 3]) -> [f64; 3] {
+        let theta = p[0] / self.radius;
+        let r = self.radius + p[2];
+        [r * theta.sin(), p[1], r * theta.cos() - self.radius]
+    }
+
+    /// `(x, z)` (across the axis and up, about the axis) turned so that the origin's
+    /// direction from the axis becomes +z.
+    fn rot(&self, x: f64, z: f64) -> (f64, f64) {
+        let (c, s) = self.turn0;
+        (x * c - z * s, x * s + z * c)
+    }
+
+    /// A world point in model coordinates.
+    fn point(&self, p: [f64; 3]) -> [f64; 3] {
+        let q = Vec3::new(p[0], p[1], p[2]);
+        let (x, z) = self.rot(q.dot(&self.across), q.z + self.radius);
+        [x, q.dot(&self.axis) - self.v0, z - self.radius]
+    }
+
+    /// Turns `nodes` about `centre` (a ball's) about the axis' direction so that the
+    /// ball's `-z` points at the bar's axis from `contact` (the ball's centre at the
+    /// touch, model coordinates).
+    fn face_down(&self, nodes: &mut [[f64; 3]], centre: [f64; 3], contact: [f64; 3]) {
+        let phi = contact[0].atan2(contact[2] + self.radius);
+        let (c, s) = (phi.cos(), phi.sin());
+        for p in nodes {
+            let d = [p[0] - centre[0], p[2] - centre[2]];
+            p[0] = centre[0] + d[0] * c + d[1] * s;
+            p[2] = centre[2] - d[0] * s + d[1] * c;
+        }
+    }
+
+    /// A world vector (velocity, spin) in model coordinates.
+    fn turn(&self, v: [f64; 3]) -> [f64; 3] {
+        let w = Vec3::new(v[0], v[1], v[2]);
+        let (x, z) = self.rot(w.dot(&self.across), w.z);
+        [x, w.dot(&self.axis), z]
     }
 }

@@ -221,6 +221,7 @@ pub fn export(
             target_material,
             source: source.to_string(),
             selection: req.selection.describe(),
+            shape: scene.specimen_shape,
         };
         let model = deck::build(&selected, &settings)?;
         for d in &decks {
@@ -256,6 +257,7 @@ pub fn export(
     let effects = scene.effects();
     let picture = crate::record::figure::selection(
         &scene.title,
+        &scene.specimen_shape,
         impacts,
         &selected,
         &outlines,

@@ -2,6 +2,8 @@
 //! a time window, the first N, or a seeded random sample of N. Filters apply in that
 //! order; the result keeps time order.
 
+use crate::Vec3;
+use crate::contact::specimen::SpecimenShape;
 use crate::record::Impact;
 use crate::scene::validate::num;
 use rand::SeedableRng;
@@ -11,7 +13,8 @@ use rand_chacha::ChaCha8Rng;
 /// Selection settings (SI).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Selection {
-    /// Contact points inside `[x0, x1] x [y0, y1]`, m.
+    /// Contact points inside `[x0, x1] x [y0, y1]`, m (on a cylindrical specimen, on
+    /// its unrolled surface: [`SpecimenShape::unrolled`]).
     pub window: Option<[f64; 4]>,
     /// First-contact times inside `[t0, t1]`, s.
     pub time_window: Option<[f64; 2]>,
@@ -23,6 +26,8 @@ pub struct Selection {
     pub sample: Option<usize>,
     /// Seed of the sample.
     pub seed: u64,
+    /// The specimen's surface, whose (unrolled) coordinates the window takes.
+    pub shape: SpecimenShape,
 }
 
 impl Selection {
@@ -32,10 +37,8 @@ impl Selection {
             .iter()
             .filter(|i| {
                 self.window.is_none_or(|[x0, y0, x1, y1]| {
-                    i.x_m >= x0.min(x1)
-                        && i.x_m <= x0.max(x1)
-                        && i.y_m >= y0.min(y1)
-                        && i.y_m <= y0.max(y1)
+                    let (x, y) = self.shape.unrolled(&Vec3::new(i.x_m, i.y_m, i.z_m));
+                    x >= x0.min(x1) && x <= x0.max(x1) && y >= y0.min(y1) && y <= y0.max(y1)
                 })
             })
             .filter(|i| {
@@ -63,8 +66,9 @@ impl Selection {
     pub fn describe(&self) -> String {
         let mut parts = Vec::new();
         if let Some([x0, y0, x1, y1]) = self.window {
+            let (x, y) = self.shape.unrolled_names();
             parts.push(format!(
-                "window x {}..{} mm, y {}..{} mm",
+                "window {x} {}..{} mm, {y} {}..{} mm",
                 num(x0 * 1e3),
                 num(x1 * 1e3),
                 num(y0 * 1e3),
@@ -94,7 +98,6 @@ impl Selection {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Vec3;
 
     fn impacts() -> Vec<Impact> {
         (0..20)

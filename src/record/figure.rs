@@ -17,6 +17,7 @@
 //!   pattern to a dot. The panel's title counts the impacts left outside.
 
 use super::Impact;
+use crate::contact::specimen::SpecimenShape;
 use crate::plot::{self, BarPanel, Bars, Map, MapPoint};
 use crate::sim::RunSink;
 use crate::state::ShotState;
@@ -46,14 +47,22 @@ struct Sampled {
 }
 
 impl Sampled {
-    fn of(i: &Impact) -> Sampled {
+    /// On the specimen's unrolled surface ([`SpecimenShape::unrolled`]; the plane's x, y).
+    fn of(i: &Impact, shape: &SpecimenShape) -> Sampled {
+        let (x, y) = shape.unrolled(&crate::Vec3::new(i.x_m, i.y_m, i.z_m));
         Sampled {
-            x: i.x_m * 1e3,
-            y: i.y_m * 1e3,
+            x: x * 1e3,
+            y: y * 1e3,
             normal: i.normal_speed_m_s,
             first: i.first_hit == 1,
         }
     }
+}
+
+/// The map's axis labels: the plane's x and y, or a cylinder's unrolled surface.
+fn axis_names(shape: &SpecimenShape) -> (String, String) {
+    let (x, y) = shape.unrolled_names();
+    (format!("{x}, mm"), format!("{y}, mm"))
 }
 
 /// Every impact up to [`MAP_POINTS`], then every second, fourth, ... one.
@@ -75,9 +84,9 @@ impl Default for Thinned {
 }
 
 impl Thinned {
-    fn offer(&mut self, i: &Impact) {
+    fn offer(&mut self, i: &Impact, shape: &SpecimenShape) {
         if self.seen.is_multiple_of(self.stride) {
-            self.items.push(Sampled::of(i));
+            self.items.push(Sampled::of(i, shape));
             if self.items.len() > MAP_POINTS {
                 // Keep every second one: the sample stays every `stride`-th impact.
                 let mut k = 0;
@@ -245,13 +254,25 @@ pub struct ImpactFigure {
     sample: Thinned,
     /// `[first hits, rebound hits]`.
     counts: [Counts; 2],
+    /// The specimen's surface: the map is drawn on it, unrolled.
+    shape: SpecimenShape,
+}
+
+impl ImpactFigure {
+    /// The figure of a run on the specimen surface `shape`.
+    pub fn on(shape: SpecimenShape) -> Self {
+        ImpactFigure {
+            shape,
+            ..Default::default()
+        }
+    }
 }
 
 impl RunSink for ImpactFigure {
     fn impacts(&mut self, batch: &[Impact]) {
         for i in batch {
             self.counts[usize::from(i.first_hit != 1)].add(i);
-            self.sample.offer(i);
+            self.sample.offer(i, &self.shape);
         }
     }
 
@@ -336,6 +357,7 @@ impl ImpactFigure {
         let points = self.sample.points();
         let value_max = points.iter().map(|p| p.value).fold(0.0, f64::max);
         let what = self.sample.describe();
+        let names = axis_names(&self.shape);
         let map_title = if outside > 0 {
             format!("Where the shots hit: {what}, {outside} outside the frame")
         } else {
@@ -343,7 +365,7 @@ impl ImpactFigure {
         };
         let map = Map {
             title: &map_title,
-            labels: ("x, mm", "y, mm"),
+            labels: (&names.0, &names.1),
             extent,
             points: &points,
             background: &[],
@@ -368,8 +390,10 @@ impl ImpactFigure {
 /// (rectangles in mm: the `--window`, the FE target block) and the jet axis' foot;
 /// beside them the shares of normal speed and impact angle, selected against all, which
 /// show how representative the selection is.
+#[allow(clippy::too_many_arguments)]
 pub fn selection(
     title: &str,
+    shape: &SpecimenShape,
     all: &[Impact],
     selected: &[Impact],
     outlines: &[([f64; 4], &str)],
@@ -378,14 +402,15 @@ pub fn selection(
     let (mut every, mut chosen) = (Thinned::default(), Thinned::default());
     let (mut c_all, mut c_sel) = (Counts::default(), Counts::default());
     for i in all {
-        every.offer(i);
+        every.offer(i, shape);
         c_all.add(i);
     }
     for i in selected {
-        chosen.offer(i);
+        chosen.offer(i, shape);
         c_sel.add(i);
     }
     let hist = Histograms::of(&[("all impacts", &c_all), ("selected", &c_sel)], true);
+    let names = axis_names(shape);
     // The selection's own frame, widened to hold the outlines, then a quarter more for
     // the impacts around it.
     let ([x0, x1, y0, y1], _) = frame(&chosen.items, None);
@@ -421,7 +446,7 @@ pub fn selection(
     );
     let map = Map {
         title: &map_title,
-        labels: ("x, mm", "y, mm"),
+        labels: (&names.0, &names.1),
         extent,
         points: &points,
         background: &background,

@@ -231,6 +231,15 @@ impl Scene {
                 pts.len()
             );
         }
+        if let (crate::contact::specimen::SpecimenShape::Cylinder { radius, axis }, true) =
+            (&self.specimen_shape, decisions[3].on)
+        {
+            decisions[3].reason += &format!(
+                "; a cylinder of radius {} mm, its axis at {} degrees from +x",
+                super::validate::num(radius * 1e3),
+                super::validate::num(axis.y.atan2(axis.x).to_degrees())
+            );
+        }
         Effects {
             drag: decisions[0].on,
             lateral_force: decisions[1].on,

@@ -97,6 +97,11 @@ pub const EXAMPLES: &[Example] = &[
         false,
         "a stream onto A5052 with the restitution against impact speed CalculiX measures"
     ),
+    example!(
+        "spring_wire",
+        false,
+        "S230 onto a spring's 8 mm wire: a cylindrical specimen (beyond the paper)"
+    ),
 ];
 
 /// The example called `name`.
