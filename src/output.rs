@@ -359,6 +359,7 @@ impl RunWriter {
                 title: &scene.title,
                 seed: scene.seed,
                 simulated_time,
+                specimen: &scene.specimen_shape,
             },
             summary,
         )?;

@@ -5,7 +5,10 @@
 //! take most easily; every dataset has a `units` and a `description` attribute):
 //! ```text
 //! /                      attrs: format, tool, tool_version, seed, title, scene (TOML),
-//!                               scene_path, simulated_time_s, summary_json
+//!                               scene_path, simulated_time_s, summary_json,
+//!                               specimen_shape ("plane" or "cylinder"; a cylinder's
+//!                               specimen_radius_m and specimen_axis_deg: its axis runs
+//!                               at that angle from +x through (0, 0, -radius))
 //! /impacts/<column>      the columns of impacts.csv, one value per impact
 //! /shots/<column>        every shot's final state (status_code: 0 active, 1 left the
 //!                        domain, 2 failed), in the order of shots.csv: by the time
@@ -519,6 +522,9 @@ pub struct FileHead<'a> {
     pub seed: u64,
     /// Simulated time, s.
     pub simulated_time: f64,
+    /// The specimen's surface (root attributes `specimen_shape`, and for a cylinder
+    /// `specimen_radius_m` and `specimen_axis_deg`).
+    pub specimen: &'a crate::contact::specimen::SpecimenShape,
 }
 
 /// The three tables of impacts.h5 being written.
@@ -585,6 +591,22 @@ impl Tables {
             .map_err(&e)?;
         file.set_attr_numeric("simulated_time_s", &head.simulated_time)
             .map_err(&e)?;
+        // The specimen's surface for scripts that do not read the scene's TOML.
+        use crate::contact::specimen::SpecimenShape;
+        match head.specimen {
+            SpecimenShape::Plane => {
+                file.set_attr_string("specimen_shape", "plane")
+                    .map_err(&e)?;
+            }
+            SpecimenShape::Cylinder { radius, axis } => {
+                file.set_attr_string("specimen_shape", "cylinder")
+                    .map_err(&e)?;
+                file.set_attr_numeric("specimen_radius_m", radius)
+                    .map_err(&e)?;
+                file.set_attr_numeric("specimen_axis_deg", &axis.y.atan2(axis.x).to_degrees())
+                    .map_err(&e)?;
+            }
+        }
         let json = serde_json::to_string(summary).expect("BUG: summary serialises");
         file.set_attr_string("summary_json", &json).map_err(&e)?;
         let g = file.root_group().create_group("summary").map_err(&e)?;

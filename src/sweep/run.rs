@@ -484,6 +484,7 @@ fn write_case(
                 title: &scene.title,
                 seed: scene.seed,
                 simulated_time: pooled.end_time,
+                specimen: &scene.specimen_shape,
             },
             impacts: &pooled.impacts,
             shots: &pooled.shots,

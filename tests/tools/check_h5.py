@@ -1,5 +1,7 @@
 """Reads a peenflow impacts.h5 with h5py (the official HDF5 library) and compares every
-impact record with impacts.csv, value for value. Exit 0 and print 'ok N' on success."""
+impact record with impacts.csv, value for value, and checks that every contact point lies on
+the specimen's surface (the plane z = 0, or the cylinder the root attributes describe).
+Exit 0 and print 'ok N' on success."""
 import csv
 import sys
 
@@ -12,6 +14,21 @@ with h5py.File(h5_path, "r") as f:
     for key in ("format", "tool", "tool_version", "seed", "scene", "title", "summary_json"):
         assert key in f.attrs, f"root attribute {key} missing"
     assert f.attrs["format"] == "peenflow-impacts/1"
+    # The specimen's surface: every contact point lies on it.
+    shape = f.attrs["specimen_shape"]
+    shape = shape.decode() if isinstance(shape, bytes) else shape
+    assert shape in ("plane", "cylinder"), shape
+    if shape == "cylinder":
+        import math
+        rc = float(f.attrs["specimen_radius_m"])
+        phi = math.radians(float(f.attrs["specimen_axis_deg"]))
+        ax, ay = math.cos(phi), math.sin(phi)
+        for k, (x, y, z) in enumerate(zip(f["impacts/x_m"][()], f["impacts/y_m"][()], f["impacts/z_m"][()])):
+            along = x * ax + y * ay
+            d = math.sqrt((x - along * ax) ** 2 + (y - along * ay) ** 2 + (z + rc) ** 2)
+            assert abs(d - rc) < 1e-9 * rc, f"impact {k} is {d - rc} m off the cylinder"
+    else:
+        assert all(z == 0.0 for z in f["impacts/z_m"][()]), "an impact off the plane"
     g = f["impacts"]
     cols = list(rows[0].keys()) if rows else list(g.keys())
     assert set(cols) == set(g.keys()), (sorted(cols), sorted(g.keys()))
