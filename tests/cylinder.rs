@@ -8,6 +8,8 @@
 //!   the axis (the contact force points at the axis);
 //! * a shot at rest on the crest presses in by the static Hertz overlap of the elliptic
 //!   contact's equivalent radius `sqrt(r (1/r + 1/R)^-1)`, not the flat plate's;
+//! * with friction, an oblique impact on a 10 m bar leaves as from the flat plate met at
+//!   the same angles, turned (to the bar's curvature, `r / R`);
 //! * an axis along x is the axis along y turned by 90 degrees;
 //! * a shot that passes beside the bar leaves the domain below it;
 //! * a nozzle stream onto a bar gives the same results on 1 and 2 threads, and shots miss;
@@ -285,4 +287,57 @@ fn the_event_scheduler_is_refused_and_auto_picks_windows() {
         .expect("refused")
         .to_string();
     assert!(err.contains("the specimen is curved"), "{err}");
+}
+
+/// Friction on the bar's surface acts in its tangent plane at the contact: a shot that
+/// meets a 10 m bar 30 degrees around from its crest, obliquely and with friction 0.3,
+/// leaves as it leaves the flat plate met at the same angles, the plate's rebound and
+/// spin turned by 30 degrees (the bar's curvature over the contact, `r / R = 4e-5`,
+/// is all that differs: measured 2.0e-5 in the rebound and 2.9e-5 in the spin, and on a
+/// 1 m bar ten times that, 1.9e-4 and 2.9e-4).
+#[test]
+fn friction_on_the_bar_acts_in_its_tangent_plane() {
+    let (rc, th) = (1e4, 30f64.to_radians());
+    let (s, c) = th.sin_cos();
+    // The plate's frame turned about y: x -> t, z -> n.
+    let turn = |v: &Vec3| Vec3::new(v.x * c + v.z * s, v.y, -v.x * s + v.z * c);
+    let v_local = Vec3::new(12.0, -5.0, -40.0);
+    let common = "duration_ms = 0.05\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\n\
+                  lateral_force = false\n[friction]\nshot_specimen = 0.3\n\
+                  [domain]\nradius_mm = 100000.0\n[shots.feed]\ntype = \"list\"\n";
+    let plate = Scene::from_toml(
+        &format!(
+            "{common}[[shots.feed.shots]]\nposition_mm = [0.0, 0.0, 0.7]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
+            v_local.x, v_local.y, v_local.z
+        ),
+        "plate.toml",
+    )
+    .unwrap();
+    let centre = Vec3::new(0.0, 0.0, -rc) + Vec3::new(s, 0.0, c) * (rc + 0.7);
+    let v = turn(&v_local);
+    let bar = Scene::from_toml(
+        &format!(
+            "{common}[[shots.feed.shots]]\nposition_mm = [{:?}, 0.0, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n\
+             [specimen]\nshape = \"cylinder\"\nradius_mm = {rc:?}\n",
+            centre.x, centre.z, v.x, v.y, v.z
+        ),
+        "bar.toml",
+    )
+    .unwrap();
+    let (p, b) = (run_scene(&plate), run_scene(&bar));
+    let (sp, sb) = (&p.shots[0], &b.shots[0]);
+    assert_eq!((sp.hits, sb.hits), (1, 1));
+    assert!(
+        sp.omega.norm() > 1e3,
+        "the plate's shot spins: {}",
+        sp.omega.norm()
+    );
+    let dv = (sb.vel - turn(&sp.vel)).norm() / sp.vel.norm();
+    let dw = (sb.omega - turn(&sp.omega)).norm() / sp.omega.norm();
+    println!(
+        "rebound {:?} against {:?}: {dv:.2e}; spin {dw:.2e}",
+        sb.vel,
+        turn(&sp.vel)
+    );
+    assert!(dv < 1e-4 && dw < 1e-4, "{dv:e} {dw:e}");
 }
