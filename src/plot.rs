@@ -463,6 +463,9 @@ pub struct Field<'a> {
     pub values: &'a [f64],
     /// Colour-bar label.
     pub label: &'a str,
+    /// Spans of x `(from, to, name)` to mark (a groove's zones): a dashed line where
+    /// each starts inside the frame, the name along the top.
+    pub spans: &'a [(f64, f64, &'a str)],
 }
 
 /// Most cells drawn per axis: finer grids are averaged into blocks (SVG size).
@@ -534,6 +537,30 @@ where
             Rectangle::new([(ax, ay), (ax + dx, ay + dy)], color.filled())
         })
     }))?;
+    for &(a, b, name) in f.spans {
+        if a > x0 {
+            c.draw_series(DashedLineSeries::new(
+                [(a, y0), (a, y1)],
+                6,
+                4,
+                BLACK.mix(0.6).stroke_width(1),
+            ))?;
+        }
+        // The name when the span is wide enough to hold it.
+        let width = (b - a) / (x1 - x0) * 620.0;
+        if width > 7.5 * name.len() as f64 {
+            c.draw_series(std::iter::once(Text::new(
+                name.to_string(),
+                (0.5 * (a + b), y1 - 0.02 * (y1 - y0)),
+                ("sans-serif", 13).into_font().color(&BLACK).pos(
+                    plotters::style::text_anchor::Pos::new(
+                        plotters::style::text_anchor::HPos::Center,
+                        plotters::style::text_anchor::VPos::Top,
+                    ),
+                ),
+            )))?;
+        }
+    }
     colour_bar(&bar, f.label, vmax)?;
     root.present()?;
     Ok(())

@@ -120,7 +120,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
                 .shot_specimen_curve
                 .clone()
                 .map(|c| std::sync::Arc::new(SpeedLaw::new(c))),
-            shape: scene.specimen_shape,
+            shape: scene.specimen_shape.clone(),
         }),
         wall: effects.nozzle_wall_contact.then(|| WallContact {
             law: law(&scene.nozzle_material, scene.restitution.shot_nozzle),

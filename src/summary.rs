@@ -213,6 +213,14 @@ pub struct Summary {
     /// crest line (signed; `SpecimenShape::unrolled`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub around_m: Option<Stats>,
+    /// On a grooved specimen: where first hits sit across it, m of arc from the middle of
+    /// the groove at the origin (signed; `SpecimenShape::unrolled`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub across_m: Option<Stats>,
+    /// On a grooved specimen: the impacts on each zone of its surface (bottom, root
+    /// fillet, flank, edge, land), from the bottom up.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub zones: Vec<ZoneStats>,
     /// Normal impact speed of first hits in 5 m/s bins (paper Figure 12).
     pub normal_speed_histogram: Histogram,
     /// Impact radius of first hits in 5 mm bins (paper Figure 13).
@@ -249,6 +257,21 @@ pub struct Summary {
     pub events: Vec<RunEvent>,
 }
 
+/// The impacts on one zone of a grooved specimen ([`crate::contact::groove::Zone`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ZoneStats {
+    /// `bottom`, `fillet`, `flank`, `edge` or `land`.
+    pub zone: String,
+    /// First hits there.
+    pub first_hits: usize,
+    /// All impacts there (first hits and rebounds).
+    pub impacts: usize,
+    /// Normal impact speed of the first hits there, m/s.
+    pub normal_speed_m_s: Option<Stats>,
+    /// Incidence of the first hits there, degrees from the surface's normal.
+    pub angle_deg: Option<Stats>,
+}
+
 /// Builds a summary from the records as a run hands them over (a [`RunSink`]): counts,
 /// and the few numbers per first hit that exact percentiles need (40 bytes per shot
 /// that hits), never the records themselves.
@@ -258,6 +281,9 @@ pub struct SummaryBuilder {
     speed: Vec<f64>,
     radius: Vec<f64>,
     around: Vec<f64>,
+    /// On a groove, per zone: impacts, and the normal speeds and angles of first hits.
+    zone_impacts: [usize; 5],
+    zone_first: [(Vec<f64>, Vec<f64>); 5],
     shape: SpecimenShape,
     impacts: usize,
     shots: usize,
@@ -273,6 +299,16 @@ pub struct SummaryBuilder {
 impl RunSink for SummaryBuilder {
     fn impacts(&mut self, batch: &[Impact]) {
         self.impacts += batch.len();
+        if let SpecimenShape::Groove(g) = &self.shape {
+            for i in batch {
+                let z = g.zone(&crate::Vec3::new(i.x_m, i.y_m, i.z_m)) as usize;
+                self.zone_impacts[z] += 1;
+                if i.first_hit == 1 {
+                    self.zone_first[z].0.push(i.normal_speed_m_s);
+                    self.zone_first[z].1.push(i.angle_deg);
+                }
+            }
+        }
         for i in batch.iter().filter(|i| i.first_hit == 1) {
             self.normal.push(i.normal_speed_m_s);
             self.speed.push(i.speed_m_s);
@@ -348,7 +384,28 @@ impl SummaryBuilder {
             normal_speed_m_s: Stats::of(&self.normal),
             speed_m_s: Stats::of(&self.speed),
             radius_m: Stats::of(&self.radius),
-            around_m: Stats::of(&self.around),
+            around_m: match self.shape {
+                SpecimenShape::Cylinder { .. } => Stats::of(&self.around),
+                _ => None,
+            },
+            across_m: match self.shape {
+                SpecimenShape::Groove(_) => Stats::of(&self.around),
+                _ => None,
+            },
+            zones: match self.shape {
+                SpecimenShape::Groove(_) => crate::contact::groove::Zone::ALL
+                    .iter()
+                    .zip(self.zone_impacts.iter().zip(&self.zone_first))
+                    .map(|(z, (&impacts, (vn, angle)))| ZoneStats {
+                        zone: z.name().into(),
+                        first_hits: vn.len(),
+                        impacts,
+                        normal_speed_m_s: Stats::of(vn),
+                        angle_deg: Stats::of(angle),
+                    })
+                    .collect(),
+                _ => Vec::new(),
+            },
             normal_speed_histogram: Histogram::new(
                 "normal impact speed, m/s",
                 &self.normal,
@@ -401,7 +458,7 @@ impl Summary {
         wall_time: f64,
         threads: usize,
     ) -> Summary {
-        let mut b = SummaryBuilder::on(scene.specimen_shape);
+        let mut b = SummaryBuilder::on(scene.specimen_shape.clone());
         b.impacts(&out.impacts);
         for s in &out.shots {
             b.shot(s);
@@ -462,17 +519,42 @@ impl Summary {
                 r.max * 1e3
             );
         }
-        if let Some(a) = &self.around_m {
+        for (a, what) in [
+            (&self.around_m, "around the bar, mm of arc from its crest"),
+            (
+                &self.across_m,
+                "across the groove, mm of arc from its middle",
+            ),
+        ] {
+            if let Some(a) = a {
+                let _ = writeln!(
+                    s,
+                    "{what} (first hits): mean {:.2}  median {:.2}  p10 {:.2}  p90 {:.2}  min {:.2}  max {:.2}",
+                    a.mean * 1e3,
+                    a.median * 1e3,
+                    a.p10 * 1e3,
+                    a.p90 * 1e3,
+                    a.min * 1e3,
+                    a.max * 1e3
+                );
+            }
+        }
+        if !self.zones.is_empty() {
             let _ = writeln!(
                 s,
-                "around the bar, mm of arc from its crest (first hits): mean {:.2}  median {:.2}  p10 {:.2}  p90 {:.2}  min {:.2}  max {:.2}",
-                a.mean * 1e3,
-                a.median * 1e3,
-                a.p10 * 1e3,
-                a.p90 * 1e3,
-                a.min * 1e3,
-                a.max * 1e3
+                "groove zones:  first hits  impacts  normal speed m/s (first hits): mean  p10  p90  incidence deg: mean  p90"
             );
+            for z in &self.zones {
+                let _ = write!(s, "  {:<8} {:>10} {:>8}", z.zone, z.first_hits, z.impacts);
+                if let (Some(v), Some(a)) = (&z.normal_speed_m_s, &z.angle_deg) {
+                    let _ = write!(
+                        s,
+                        "  {:>32.2} {:>5.2} {:>5.2} {:>20.1} {:>5.1}",
+                        v.mean, v.p10, v.p90, a.mean, a.p90
+                    );
+                }
+                let _ = writeln!(s);
+            }
         }
         for h in [&self.normal_speed_histogram, &self.radius_histogram] {
             let total: usize = h.counts.iter().sum::<usize>() + h.overflow;

@@ -441,3 +441,77 @@ fn dents_on_a_bar_sit_on_its_unrolled_surface() {
         "{out}"
     );
 }
+
+/// In a groove the coverage is split by zone across the window: the zones' spans tile
+/// it where the groove's profile puts them (the bottom's half width, the fillet's arc
+/// `R (90 - flank)` beyond it), their cells add up to the window's and their coverages,
+/// weighted by cells, to the window's (the command end to end on the gear root example,
+/// whose run's summary counts every impact in one zone).
+#[test]
+fn coverage_in_a_groove_is_given_per_zone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::root().join("examples/gear_root.toml");
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("duration_ms = 30.0", "duration_ms = 8.0");
+    std::fs::write(tmp.path().join("gear.toml"), text).unwrap();
+    let o = peenflow(&["run", "gear.toml", "--out", "run", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The run's summary counts every impact in one zone.
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("run/summary.json")).unwrap())
+            .unwrap();
+    let zones = summary["zones"].as_array().expect("zones");
+    let names: Vec<&str> = zones.iter().map(|z| z["zone"].as_str().unwrap()).collect();
+    assert_eq!(names, ["bottom", "fillet", "flank", "edge", "land"]);
+    let sum = |k: &str| zones.iter().map(|z| z[k].as_u64().unwrap()).sum::<u64>();
+    assert_eq!(sum("first_hits"), summary["first_hits"].as_u64().unwrap());
+    assert_eq!(sum("impacts"), summary["impacts"].as_u64().unwrap());
+    assert!(summary["across_m"].is_object() && summary.get("around_m").is_none());
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--out",
+            "cov",
+            "--window",
+            "-3,-1,3,1",
+        ],
+        tmp.path(),
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        out.contains("window across the groove -3.00..3.00 mm"),
+        "{out}"
+    );
+    assert!(out.contains("coverage per zone of the groove"), "{out}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("cov/coverage.json")).unwrap())
+            .unwrap();
+    let zones = json["zones"].as_array().expect("zones");
+    let names: Vec<&str> = zones.iter().map(|z| z["zone"].as_str().unwrap()).collect();
+    assert_eq!(names, ["flank", "fillet", "bottom", "fillet", "flank"]);
+    // Fillet radius 1.52 mm, bottom 0.52 mm, flanks 20 degrees.
+    let (hb, fillet_end) = (0.26e-3, 0.26e-3 + 1.52e-3 * 70f64.to_radians());
+    let bounds = [-3e-3, -fillet_end, -hb, hb, fillet_end, 3e-3];
+    let (mut cells, mut covered) = (0.0, 0.0);
+    for (k, z) in zones.iter().enumerate() {
+        let span = z["across_m"].as_array().unwrap();
+        let (a, b) = (span[0].as_f64().unwrap(), span[1].as_f64().unwrap());
+        assert!((a - bounds[k]).abs() < 1e-12 && (b - bounds[k + 1]).abs() < 1e-12);
+        let n = z["cells"].as_f64().unwrap();
+        cells += n;
+        covered += n * z["coverage"].as_f64().unwrap();
+    }
+    let grid = json["cells"].as_array().unwrap();
+    assert_eq!(
+        cells,
+        grid[0].as_f64().unwrap() * grid[1].as_f64().unwrap(),
+        "the zones' cells are the window's"
+    );
+    let total = json["final_coverage"].as_f64().unwrap();
+    assert!((covered / cells - total).abs() < 1e-12, "{covered} {total}");
+    // The jet aims at the root: the fillets are dented.
+    assert!(zones[1]["coverage"].as_f64().unwrap() > 0.0);
+}

@@ -286,7 +286,7 @@ fn the_event_scheduler_is_refused_and_auto_picks_windows() {
         .err()
         .expect("refused")
         .to_string();
-    assert!(err.contains("the specimen is curved"), "{err}");
+    assert!(err.contains("the specimen is not the flat plate"), "{err}");
 }
 
 /// Friction on the bar's surface acts in its tangent plane at the contact: a shot that

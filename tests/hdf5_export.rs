@@ -66,25 +66,32 @@ fn impacts_h5_matches_the_run_and_impacts_csv() {
     }
 }
 
-/// A run onto a bar: the root attributes describe the cylinder, and the official library
-/// reads contact points that lie on its surface (tests/tools/check_h5.py).
+/// Runs onto a bar and into a rack's grooves: the root attributes describe the surface,
+/// and the official library reads contact points that lie on it (tests/tools/check_h5.py,
+/// which draws the groove from its dimensions on its own).
 #[test]
-fn a_run_onto_a_bar_describes_it_to_h5py() {
-    let tmp = tempfile::tempdir().unwrap();
-    std::fs::write(
-        tmp.path().join("s.toml"),
-        "duration_ms = 6.0\n[specimen]\nshape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n",
-    )
-    .unwrap();
-    let o = peenflow(&["run", "s.toml", "--out", "out", "-q"], tmp.path());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let file = peenflow::export::hdf5::read(&tmp.path().join("out/impacts.h5")).unwrap();
-    assert!(file.impacts.len() > 5, "{} impacts", file.impacts.len());
-    if let Some(out) = h5py_check(
-        &tmp.path().join("out/impacts.h5"),
-        &tmp.path().join("out/impacts.csv"),
-    ) {
-        assert!(out.starts_with("ok ") && out.trim() != "ok 0", "{out}");
+fn runs_onto_a_bar_and_a_groove_describe_them_to_h5py() {
+    for specimen in [
+        "shape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n",
+        "shape = \"groove\"\nradius_mm = 1.2\nbottom_mm = 0.6\nflank_deg = 20.0\n\
+         depth_mm = 5.0\nedge_radius_mm = 0.6\npitch_mm = 9.0\naxis_deg = 60.0\n",
+    ] {
+        let tmp = tempfile::tempdir().unwrap();
+        std::fs::write(
+            tmp.path().join("s.toml"),
+            format!("duration_ms = 6.0\n[specimen]\n{specimen}"),
+        )
+        .unwrap();
+        let o = peenflow(&["run", "s.toml", "--out", "out", "-q"], tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let file = peenflow::export::hdf5::read(&tmp.path().join("out/impacts.h5")).unwrap();
+        assert!(file.impacts.len() > 5, "{} impacts", file.impacts.len());
+        if let Some(out) = h5py_check(
+            &tmp.path().join("out/impacts.h5"),
+            &tmp.path().join("out/impacts.csv"),
+        ) {
+            assert!(out.starts_with("ok ") && out.trim() != "ok 0", "{out}");
+        }
     }
 }
 

@@ -139,8 +139,8 @@ fn run_scene(a: RunArgs) -> Result<()> {
     let mut sink = (
         output::RunWriter::create(&a.out)?,
         (
-            crate::summary::SummaryBuilder::on(scene.specimen_shape),
-            crate::record::figure::ImpactFigure::on(scene.specimen_shape),
+            crate::summary::SummaryBuilder::on(scene.specimen_shape.clone()),
+            crate::record::figure::ImpactFigure::on(scene.specimen_shape.clone()),
         ),
     );
     // A run redone on windows starts its progress again: say why at that moment.
@@ -181,7 +181,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
             units: UnitSystem::MmTonneS,
             selection: Selection {
                 seed: scene.seed,
-                shape: scene.specimen_shape,
+                shape: scene.specimen_shape.clone(),
                 ..Selection::default()
             },
             rigid_shots: true,
@@ -292,7 +292,7 @@ fn export(a: ExportArgs) -> Result<()> {
         first: a.first,
         sample: a.sample,
         seed: a.seed.unwrap_or(file.seed),
-        shape: scene.specimen_shape,
+        shape: scene.specimen_shape.clone(),
     };
     let req = ExportRequest {
         formats,
@@ -662,6 +662,18 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         c.exposure * 1e3,
         c.dents_in_window
     );
+    if !r.zones.is_empty() {
+        println!("coverage per zone of the groove inside the window (mm of arc across it):");
+        for z in &r.zones {
+            println!(
+                "  {:<7} {:>8.2}..{:<8.2} {:>7.2} %",
+                z.zone,
+                z.across_m[0] * 1e3,
+                z.across_m[1] * 1e3,
+                100.0 * z.coverage
+            );
+        }
+    }
     match c.fit {
         Some(f) => {
             println!(

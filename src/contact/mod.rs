@@ -1,6 +1,7 @@
 //! Contact stage: which contacts a scene enabled, their geometry and their laws.
 //!
-//! * [`SpecimenContact`]: shot on the flat specimen (plane `z = 0`, normal `+z`);
+//! * [`SpecimenContact`]: shot on the specimen (the plane `z = 0`, normal `+z`; or a bar,
+//!   or a [`groove`]);
 //! * [`WallContact`]: shot against the nozzle tube (bore, lips, outer surface);
 //! * [`PairContact`]: shot on shot, candidates from the [`broad`] cell list;
 //! * [`Friction`]: Coulomb friction at the contact points of all three (spins shots).
@@ -10,6 +11,7 @@
 
 pub mod broad;
 pub mod friction;
+pub mod groove;
 pub mod hertz;
 pub mod pair;
 pub mod restitution;

@@ -1,17 +1,21 @@
 //! Shot-specimen contact. The specimen is either the paper's flat plate, the plane
 //! `z = 0` with normal `+z`, or (beyond the paper) a convex cylinder, a bar or a spring's
-//! wire, whose crest line runs through the origin at `z = 0` along a horizontal axis
-//! (the specimen frame is the world frame in both).
+//! wire, whose crest line runs through the origin at `z = 0` along a horizontal axis,
+//! or a groove (a gear's or a rack's tooth space, a slot: [`super::groove`]) whose
+//! bottom's middle line runs there (the specimen frame is the world frame in all).
 
 use std::sync::Arc;
 
 use super::HertzLaw;
+use super::groove::Groove;
 use super::restitution::SpeedLaw;
 use crate::Vec3;
 use crate::state::ShotState;
 
-/// The specimen's surface.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The specimen's surface. (The groove is behind an `Arc`: its profile is 30 numbers, and
+/// the plate's and the bar's contact data stay as small as before it: measured, the
+/// groove held inline made the 10,000-shot pack 5 % slower with the same instructions.)
+#[derive(Debug, Clone, PartialEq, Default)]
 pub enum SpecimenShape {
     /// The plane `z = 0`, normal `+z` (the paper's specimen).
     #[default]
@@ -25,6 +29,8 @@ pub enum SpecimenShape {
         /// Axis direction, a horizontal unit vector.
         axis: Vec3,
     },
+    /// A groove, or a rack of them ([`Groove`]).
+    Groove(Arc<Groove>),
 }
 
 impl SpecimenShape {
@@ -34,6 +40,28 @@ impl SpecimenShape {
         SpecimenShape::Cylinder {
             radius,
             axis: Vec3::new(axis_angle.cos(), axis_angle.sin(), 0.0),
+        }
+    }
+
+    /// The speed (m/s) at which a shot of `radius` at `pos`, flying straight at `vel`,
+    /// may close its gap to the surface: on the plate and the bar (convex parts, whose
+    /// distance is convex along a line) its speed towards the nearest surface point,
+    /// `-v . n`; in a groove, where a shot moving along the bottom closes on a flank,
+    /// its gap over the lower bound on the time to touch any face
+    /// ([`Groove::time_to_touch`]).
+    #[inline]
+    pub fn closing_speed(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> f64 {
+        match self {
+            SpecimenShape::Groove(g) => {
+                let gap = g.distance(pos) - radius;
+                let t = g.time_to_touch(pos, vel, radius);
+                if gap <= 0.0 || t <= 0.0 {
+                    vel.norm()
+                } else {
+                    gap / t
+                }
+            }
+            _ => -self.normal_velocity(pos, vel),
         }
     }
 
@@ -58,6 +86,7 @@ impl SpecimenShape {
             SpecimenShape::Cylinder { radius, axis } => {
                 Self::radial(pos, *radius, axis).norm() - radius
             }
+            SpecimenShape::Groove(g) => g.distance(pos),
         }
     }
 
@@ -72,6 +101,7 @@ impl SpecimenShape {
                 let l = d.norm();
                 if l > 0.0 { d / l } else { Vec3::z() }
             }
+            SpecimenShape::Groove(g) => g.foot(pos).normal,
         }
     }
 
@@ -81,22 +111,36 @@ impl SpecimenShape {
     pub fn normal_velocity(&self, pos: &Vec3, vel: &Vec3) -> f64 {
         match self {
             SpecimenShape::Plane => vel.z,
-            SpecimenShape::Cylinder { .. } => vel.dot(&self.normal(pos)),
+            _ => vel.dot(&self.normal(pos)),
         }
     }
 
-    /// Hertz effective radius of a sphere of `radius` on the surface. On the cylinder
-    /// the contact is elliptic; its equivalent radius is `sqrt(R' R'')` with `R' = r`
-    /// along the axis and `1/R'' = 1/r + 1/R_c` around it (Johnson, Contact Mechanics,
-    /// Sec. 4.2; the ellipticity's correction to the load is below 1e-3 for
-    /// `R_c >= r`).
+    /// Hertz effective radius of a sphere of `radius` at `pos` on the surface. On the
+    /// cylinder the contact is elliptic; its equivalent radius is `sqrt(R' R'')` with
+    /// `R' = r` along the axis and `1/R'' = 1/r + 1/R_c` around it (Johnson, Contact
+    /// Mechanics, Sec. 4.2; the ellipticity's correction to the load is below 1e-3 for
+    /// `R_c >= r`). In a groove, that of the piece under the shot
+    /// ([`Groove::effective_radius`]).
     #[inline]
-    pub fn effective_radius(&self, radius: f64) -> f64 {
+    pub fn effective_radius(&self, pos: &Vec3, radius: f64) -> f64 {
         match self {
             SpecimenShape::Plane => radius,
             SpecimenShape::Cylinder { radius: rc, .. } => {
                 (radius * (radius * rc / (radius + rc))).sqrt()
             }
+            SpecimenShape::Groove(g) => g.effective_radius(pos, radius),
+        }
+    }
+
+    /// The largest effective radius (the stiffest contact) a shot of `radius` meets
+    /// anywhere on the surface.
+    pub fn stiffest_radius(&self, radius: f64) -> f64 {
+        match self {
+            SpecimenShape::Groove(g) => {
+                let rf = g.size().radius;
+                (radius * (radius * rf / (rf - radius))).sqrt()
+            }
+            _ => self.effective_radius(&Vec3::zeros(), radius),
         }
     }
 
@@ -113,6 +157,7 @@ impl SpecimenShape {
                 let d = Self::radial(point, *radius, axis);
                 (radius * d.dot(&across).atan2(d.z), point.dot(axis))
             }
+            SpecimenShape::Groove(g) => g.unrolled(point),
         }
     }
 
@@ -121,6 +166,7 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => ("x", "y"),
             SpecimenShape::Cylinder { .. } => ("around the bar", "along its axis"),
+            SpecimenShape::Groove(_) => ("across the groove", "along it"),
         }
     }
 
@@ -131,6 +177,8 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => f64::NEG_INFINITY,
             SpecimenShape::Cylinder { radius, .. } => -2.0 * radius - 2.0 * r_max,
+            // The lands run on for ever: nothing passes the groove.
+            SpecimenShape::Groove(_) => f64::NEG_INFINITY,
         }
     }
 }
@@ -169,10 +217,10 @@ impl SpecimenContact {
         self.shape.normal_velocity(pos, vel)
     }
 
-    /// Hertz effective radius of a shot of `radius` on the surface.
+    /// Hertz effective radius of a shot of `radius` at `pos` on the surface.
     #[inline]
-    pub fn effective_radius(&self, radius: f64) -> f64 {
-        self.shape.effective_radius(radius)
+    pub fn effective_radius(&self, pos: &Vec3, radius: f64) -> f64 {
+        self.shape.effective_radius(pos, radius)
     }
 
     /// The contact point's offset from the centre of a shot at `pos`, `lever` (m)
@@ -181,7 +229,7 @@ impl SpecimenContact {
     pub fn lever(&self, pos: &Vec3, lever: f64) -> Vec3 {
         match self.shape {
             SpecimenShape::Plane => Vec3::new(0.0, 0.0, -lever),
-            SpecimenShape::Cylinder { .. } => self.normal(pos) * -lever,
+            _ => self.normal(pos) * -lever,
         }
     }
 
@@ -190,7 +238,7 @@ impl SpecimenContact {
     pub fn add_normal(&self, pos: &Vec3, a: &mut Vec3, s: f64) {
         match self.shape {
             SpecimenShape::Plane => a.z += s,
-            SpecimenShape::Cylinder { .. } => *a += self.normal(pos) * s,
+            _ => *a += self.normal(pos) * s,
         }
     }
 
@@ -253,11 +301,12 @@ mod tests {
     #[test]
     fn the_elliptic_contacts_radius_lies_between_the_shot_and_its_half() {
         let r = 4e-4;
-        assert_eq!(SpecimenShape::Plane.effective_radius(r), r);
+        let o = Vec3::zeros();
+        assert_eq!(SpecimenShape::Plane.effective_radius(&o, r), r);
         // A bar as thin as the shot: sqrt(r r/2); a wide one: the plate's r.
-        let thin = SpecimenShape::cylinder(r, 0.0).effective_radius(r);
+        let thin = SpecimenShape::cylinder(r, 0.0).effective_radius(&o, r);
         assert!((thin - r / 2f64.sqrt()).abs() < 1e-18);
-        let wide = SpecimenShape::cylinder(1.0, 0.0).effective_radius(r);
+        let wide = SpecimenShape::cylinder(1.0, 0.0).effective_radius(&o, r);
         assert!((wide / r - 1.0).abs() < 3e-4);
     }
 }

@@ -59,6 +59,57 @@ pub struct Report {
     pub steady_feed: bool,
     /// The window's coordinates: the plane's `x`, `y`, or a cylinder's unrolled surface.
     pub axes: (&'static str, &'static str),
+    /// On a grooved specimen: the coverage of each zone the window spans, from `-x` to
+    /// `+x` (a zone met twice, on both sides of the groove, once per side).
+    pub zones: Vec<ZoneCoverage>,
+}
+
+/// The coverage of one zone of a grooved specimen inside the window.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ZoneCoverage {
+    /// `bottom`, `fillet`, `flank`, `edge` or `land`.
+    pub zone: &'static str,
+    /// Its span across the groove inside the window, m of arc `[from, to]`.
+    pub across_m: [f64; 2],
+    /// Cells of the window in it.
+    pub cells: usize,
+    /// Their covered fraction at the end of the run.
+    pub coverage: f64,
+}
+
+/// The coverage of each of `spans` (a groove's zones across the window) from the cells
+/// whose centres fall in it.
+fn zone_coverage(
+    cov: &super::Coverage,
+    spans: &[(f64, f64, crate::contact::groove::Zone)],
+) -> Vec<ZoneCoverage> {
+    spans
+        .iter()
+        .map(|&(a, b, z)| {
+            let (mut cells, mut covered) = (0usize, 0usize);
+            for i in 0..cov.nx {
+                let x = cov.window[0] + (i as f64 + 0.5) * cov.cell;
+                if x < a || x >= b {
+                    continue;
+                }
+                for j in 0..cov.ny {
+                    cells += 1;
+                    covered += (cov.counts[j * cov.nx + i] > 0) as usize;
+                }
+            }
+            ZoneCoverage {
+                zone: z.name(),
+                across_m: [a, b],
+                cells,
+                coverage: if cells > 0 {
+                    covered as f64 / cells as f64
+                } else {
+                    0.0
+                },
+            }
+        })
+        .filter(|z| z.cells > 0)
+        .collect()
 }
 
 /// Errors of the coverage command.
@@ -149,6 +200,13 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     let cell = req.cell.unwrap_or(median_r / 5.0);
     let t_end = scene.duration;
     let cov = compute(&ds, window, cell, t_end);
+    let spans = match &scene.specimen_shape {
+        crate::contact::specimen::SpecimenShape::Groove(g) => {
+            g.zone_spans(cov.window[0], cov.window[2])
+        }
+        _ => Vec::new(),
+    };
+    let zones = zone_coverage(&cov, &spans);
     let mut written = Vec::new();
     // The moving nozzle pools a sweep case's seeds (independent runs of the same still
     // nozzle) unless one was chosen.
@@ -208,12 +266,20 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         "time_to_98_percent_measured_s": cov.t98_measured,
         "traverse": track.as_ref().map(track_json),
     });
+    let mut json = json;
+    if !zones.is_empty() {
+        json["zones"] = serde_json::to_value(&zones).expect("BUG: json");
+    }
     let p = req.out.join("coverage.json");
     let mut bytes = serde_json::to_vec_pretty(&json).expect("BUG: json");
     bytes.push(b'\n');
     crate::output::write_atomic(&p, &bytes)?;
     written.push(p);
     // Map and curve.
+    let marks: Vec<(f64, f64, &str)> = spans
+        .iter()
+        .map(|&(a, b, z)| (a * 1e3, b * 1e3, z.name()))
+        .collect();
     let values: Vec<f64> = cov.counts.iter().map(|&c| c as f64).collect();
     let stem = req.out.join("coverage_map");
     plot::heatmap(
@@ -239,6 +305,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
             ny: cov.ny,
             values: &values,
             label: "dents per cell",
+            spans: &marks,
         },
     )?;
     written.push(stem.with_extension("png"));
@@ -284,6 +351,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         track,
         steady_feed,
         axes: scene.specimen_shape.unrolled_names(),
+        zones,
     })
 }
 

@@ -146,7 +146,9 @@ pub fn unsuitable(phys: &Physics) -> Option<&'static str> {
         .as_ref()
         .is_some_and(|sp| !sp.shape.is_plane())
     {
-        return Some("the specimen is curved (its contacts are predicted on the flat plate only)");
+        return Some(
+            "the specimen is not the flat plate (its contacts are predicted on the plane only)",
+        );
     }
     if phys.forces.gravity.is_some_and(|g| {
         g.acceleration.x != 0.0 || g.acceleration.y != 0.0 || g.acceleration.z > 0.0
@@ -545,7 +547,7 @@ pub fn fixed_step_hint(phys: &Physics, shots: &[ShotState]) -> f64 {
     if let Some(sp) = &phys.contacts.specimen {
         tc = tc.min(hertz::contact_time(
             m,
-            sp.law.stiffness(sp.effective_radius(r)),
+            sp.law.stiffness(sp.shape.stiffest_radius(r)),
             v,
         ));
     }
@@ -1086,9 +1088,9 @@ impl<'a> Engine<'a> {
                     .specimen
                     .as_ref()
                     .expect("BUG: floor touch without specimen");
-                let (_, v) = self.state_at(*a, t);
+                let (p, v) = self.state_at(*a, t);
                 let b = self.shots[*a].body;
-                let k = sp.law.stiffness(sp.effective_radius(b.radius));
+                let k = sp.law.stiffness(sp.effective_radius(&p, b.radius));
                 hertz::contact_time(b.mass, k, (-v.z).max(MIN_CONTACT_SPEED))
             }
             _ => unreachable!("BUG: a touch involves one or two shots"),

@@ -10,6 +10,7 @@
 //! Meshes come from `crate::mesh`; units are SI or mm-tonne-s.
 
 use crate::Vec3;
+use crate::contact::groove::Groove;
 use crate::contact::hertz;
 use crate::contact::specimen::SpecimenShape;
 use crate::mesh::{Face, Mesh, block, sphere};
@@ -524,6 +525,27 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
     let first_vn = impacts[0].normal_speed_m_s.max(1e-6);
     let clearance = 0.05 * r_max;
     let t0 = t_first - clearance / first_vn;
+    if !s.shape.is_plane() {
+        let block = (
+            (ox + xs[0], ox + xs[xs.len() - 1]),
+            (oy + ys[0], oy + ys[ys.len() - 1]),
+        );
+        for (k, i) in impacts.iter().enumerate() {
+            straight_path_clear(&s.shape, i, i.time_s - t0, block).map_err(|what| {
+                DeckError::Bend(format!(
+                    "impact {} (shot {} at {:.4} ms) would fly through the part: the deck flies \
+                     each shot straight to its contact from the model's start ({:.4} ms), and \
+                     this one's path back crosses {what} under the target block (it came off \
+                     another face). Select a shorter time (--time-window), first hits only \
+                     (--first-hits-only) or a smaller --window",
+                    k + 1,
+                    i.shot,
+                    i.time_s * 1e3,
+                    t0 * 1e3
+                ))
+            })?;
+        }
+    }
     let mut shots = Vec::new();
     let rho_s = s.shot_material.density;
     for (k, i) in impacts.iter().enumerate() {
@@ -717,11 +739,7 @@ pub fn build(impacts: &[Impact], s: &DeckSettings) -> Result<FeModel, DeckError>
         origin: [ox * u.length_factor, oy * u.length_factor],
         geometry: match &bend {
             None => "specimen surface at z = 0; target below it".into(),
-            // (Short: LS-DYNA's comment line holds it within 80 columns.)
-            Some(b) => format!(
-                "bar R = {}, axis y, top at origin; target bent under it",
-                crate::scene::validate::num(b.radius * u.length_factor)
-            ),
+            Some(b) => b.geometry(u.length_factor),
         },
         nodes: scaled
             .nodes
@@ -948,6 +966,232 @@ mod tests {
     }
 }
 
+/// Whether impact `i`'s shot, flown straight back from its contact for `back` seconds
+/// (where the deck starts it), stays clear of the specimen's surface wherever that lies
+/// under the target block (`block`: its extent on the unrolled surface, m); `Err` names
+/// the zone it crosses. Sphere-traced on the surface's exact distance, so no face thinner
+/// than a step is jumped.
+fn straight_path_clear(
+    shape: &SpecimenShape,
+    i: &Impact,
+    back: f64,
+    block: ((f64, f64), (f64, f64)),
+) -> Result<(), String> {
+    let r = 0.5 * i.diameter_m;
+    let c = Vec3::new(i.center_x_m, i.center_y_m, i.center_z_m);
+    let v = Vec3::new(i.vx_m_s, i.vy_m_s, i.vz_m_s);
+    let speed = v.norm();
+    if speed <= 0.0 || back <= 0.0 {
+        return Ok(());
+    }
+    let ((u0, u1), (w0, w1)) = block;
+    let mut t = 1e-3 * r / speed;
+    loop {
+        let t_at = t.min(back);
+        let p = c - v * t_at;
+        let d = shape.distance(&p);
+        if d < r * (1.0 - 1e-6) {
+            let foot = p - shape.normal(&p) * d;
+            let (u, w) = shape.unrolled(&foot);
+            if (u0 - r..=u1 + r).contains(&u) && (w0 - r..=w1 + r).contains(&w) {
+                return Err(match shape {
+                    SpecimenShape::Groove(g) => format!("the groove's {}", g.zone(&p).name()),
+                    _ => "the bar".into(),
+                });
+            }
+            t += 0.1 * r / speed;
+        } else {
+            t += (d - r).max(0.02 * r) / speed;
+        }
+        if t_at >= back {
+            return Ok(());
+        }
+    }
+}
+
+/// Turns a ball's `nodes` about its `centre` in the model's x-z plane (about the y axis)
+/// by `phi` (rad), so that its `-z` points along `-(sin phi, 0, cos phi)`.
+fn tilt_ball(nodes: &mut [[f64; 3]], centre: [f64; 3], phi: f64) {
+    let (c, s) = (phi.cos(), phi.sin());
+    for p in nodes {
+        let d = [p[0] - centre[0], p[2] - centre[2]];
+        p[0] = centre[0] + d[0] * c + d[1] * s;
+        p[2] = centre[2] - d[0] * s + d[1] * c;
+    }
+}
+
+/// How the flat target block (laid out on the specimen's unrolled surface) becomes the
+/// specimen's: bent around a bar ([`BarBend`]) or laid into a groove ([`GrooveLay`]).
+#[derive(Debug, Clone, Copy)]
+enum Bend {
+    Bar(BarBend),
+    Groove(GrooveLay),
+}
+
+impl Bend {
+    /// `None` on the plane (the block stays flat); see [`BarBend::new`] and
+    /// [`GrooveLay::new`] for what each refuses.
+    fn new(
+        shape: &SpecimenShape,
+        u0: f64,
+        v0: f64,
+        u_lo: f64,
+        u_hi: f64,
+        depth: f64,
+    ) -> Result<Option<Bend>, DeckError> {
+        Ok(match shape {
+            SpecimenShape::Plane => None,
+            SpecimenShape::Cylinder { .. } => {
+                BarBend::new(shape, u0, v0, u_lo, u_hi, depth)?.map(Bend::Bar)
+            }
+            SpecimenShape::Groove(g) => {
+                Some(Bend::Groove(GrooveLay::new(g, u0, v0, u_lo, u_hi, depth)?))
+            }
+        })
+    }
+
+    fn node(&self, p: [f64; 3]) -> [f64; 3] {
+        match self {
+            Bend::Bar(b) => b.node(p),
+            Bend::Groove(g) => g.node(p),
+        }
+    }
+
+    fn point(&self, p: [f64; 3]) -> [f64; 3] {
+        match self {
+            Bend::Bar(b) => b.point(p),
+            Bend::Groove(g) => g.point(p),
+        }
+    }
+
+    fn face_down(&self, nodes: &mut [[f64; 3]], centre: [f64; 3], contact: [f64; 3]) {
+        match self {
+            Bend::Bar(b) => b.face_down(nodes, centre, contact),
+            Bend::Groove(g) => g.face_down(nodes, centre, contact),
+        }
+    }
+
+    fn turn(&self, v: [f64; 3]) -> [f64; 3] {
+        match self {
+            Bend::Bar(b) => b.turn(v),
+            Bend::Groove(g) => g.turn(v),
+        }
+    }
+
+    /// The deck header's line on the geometry (`f`: metres to the deck's length unit;
+    /// short: LS-DYNA's comment line holds it within 80 columns).
+    fn geometry(&self, f: f64) -> String {
+        let n = |x: f64| crate::scene::validate::num(x * f);
+        match self {
+            Bend::Bar(b) => format!(
+                "bar R = {}, axis y, top at origin; target bent under it",
+                n(b.radius)
+            ),
+            Bend::Groove(g) => format!(
+                "groove along y, bottom middle at x,z = {}, {}",
+                n(-g.origin.0),
+                n(-g.origin.1)
+            ),
+        }
+    }
+}
+
+/// The target block laid under a groove's surface. The block is laid out flat on the
+/// unrolled surface, as on the bar, and `node` puts each node at its depth under the
+/// surface point of its arc length, along the normal there: the fillets, flanks, edges
+/// and lands it spans are followed. Model coordinates: the world's, its x across the
+/// groove (`Groove::across`), y along its axis from the origin's axial coordinate, z up,
+/// shifted so that the surface point at the model origin's arc length is `(0, 0, 0)`.
+#[derive(Debug, Clone, Copy)]
+struct GrooveLay {
+    groove: Groove,
+    /// The origin's arc length and axial coordinate, m.
+    u0: f64,
+    v0: f64,
+    /// The surface point at the origin, world `(across, z)`, m.
+    origin: (f64, f64),
+}
+
+impl GrooveLay {
+    /// Refuses a block deeper than 0.8 of an edge's radius where it spans an edge (its
+    /// nodes would cross under the edge's centre).
+    fn new(
+        groove: &Groove,
+        u0: f64,
+        v0: f64,
+        u_lo: f64,
+        u_hi: f64,
+        depth: f64,
+    ) -> Result<GrooveLay, DeckError> {
+        let rho = groove.edge_radius();
+        if depth >= 0.8 * rho {
+            let (a, b) = (u0 + u_lo, u0 + u_hi);
+            let samples = ((b - a) / (0.25 * rho)).ceil().max(1.0) as usize;
+            let on_edge = (0..=samples).any(|k| {
+                groove.zone_at(a + (b - a) * k as f64 / samples as f64)
+                    == crate::contact::groove::Zone::Edge
+            });
+            if on_edge {
+                return Err(DeckError::Bend(format!(
+                    "the target block is {:.3} mm deep (2.5 shot radii) and spans an edge of the \
+                     groove, whose {:.3} mm radius needs it shallower than 0.8 times that: select \
+                     impacts away from the edges (--window on the unrolled surface, mm of arc \
+                     across the groove and along it)",
+                    depth * 1e3,
+                    rho * 1e3
+                )));
+            }
+        }
+        let (p, _) = groove.point_at(u0, v0);
+        Ok(GrooveLay {
+            groove: *groove,
+            u0,
+            v0,
+            origin: (p.dot(&groove.across()), p.z),
+        })
+    }
+
+    /// A world point's model coordinates.
+    fn model_of(&self, q: Vec3) -> [f64; 3] {
+        let g = &self.groove;
+        [
+            q.dot(&g.across()) - self.origin.0,
+            q.dot(&g.axis()) - self.v0,
+            q.z - self.origin.1,
+        ]
+    }
+
+    /// A node of the flat block (relative to the origin) under the groove's surface.
+    fn node(&self, p: [f64; 3]) -> [f64; 3] {
+        let (at, n) = self.groove.point_at(self.u0 + p[0], self.v0 + p[1]);
+        self.model_of(at + n * p[2])
+    }
+
+    fn point(&self, p: [f64; 3]) -> [f64; 3] {
+        self.model_of(Vec3::new(p[0], p[1], p[2]))
+    }
+
+    /// Turns `nodes` about `centre` (a ball's) about the axis' direction so that the
+    /// ball's `-z` points along the inward normal at its contact (`contact`: the ball's
+    /// centre at the touch, model coordinates).
+    fn face_down(&self, nodes: &mut [[f64; 3]], centre: [f64; 3], contact: [f64; 3]) {
+        let g = &self.groove;
+        let world = g.across() * (contact[0] + self.origin.0)
+            + g.axis() * (contact[1] + self.v0)
+            + Vec3::z() * (contact[2] + self.origin.1);
+        let n = g.foot(&world).normal;
+        let phi = n.dot(&g.across()).atan2(n.z);
+        tilt_ball(nodes, centre, phi);
+    }
+
+    /// A world vector (velocity, spin) in model coordinates.
+    fn turn(&self, v: [f64; 3]) -> [f64; 3] {
+        let w = Vec3::new(v[0], v[1], v[2]);
+        let g = &self.groove;
+        [w.dot(&g.across()), w.dot(&g.axis()), w.z]
+    }
+}
+
 /// The target block bent around a cylindrical specimen. The block is laid out flat on
 /// the unrolled surface (x: arc length around the bar from the model origin's, y:
 /// along the axis from the origin's, z: height above the surface, negative inside);
@@ -957,7 +1201,7 @@ mod tests {
 /// axial coordinate, x across it; the axis runs through `(0, 0, -R)`. Shots and their
 /// velocities are only turned into this frame (`point`, `turn`): rigid motions.
 #[derive(Debug, Clone, Copy)]
-struct Bend {
+struct BarBend {
     radius: f64,
     axis: Vec3,
     across: Vec3,
@@ -967,7 +1211,7 @@ struct Bend {
     v0: f64,
 }
 
-impl Bend {
+impl BarBend {
     /// `None` on the plane; on a cylinder, refuses a block whose depth reaches the axis
     /// or that would wrap around the bar (`u_lo..u_hi` about the origin's arc length
     /// `u0`).
@@ -978,7 +1222,7 @@ impl Bend {
         u_lo: f64,
         u_hi: f64,
         depth: f64,
-    ) -> Result<Option<Bend>, DeckError> {
+    ) -> Result<Option<BarBend>, DeckError> {
         let SpecimenShape::Cylinder { radius, axis } = *shape else {
             return Ok(None);
         };
@@ -1002,7 +1246,7 @@ impl Bend {
             )));
         }
         let theta0 = u0 / radius;
-        Ok(Some(Bend {
+        Ok(Some(BarBend {
             radius,
             axis,
             across: axis.cross(&Vec3::z()),
@@ -1037,12 +1281,7 @@ impl Bend {
     /// touch, model coordinates).
     fn face_down(&self, nodes: &mut [[f64; 3]], centre: [f64; 3], contact: [f64; 3]) {
         let phi = contact[0].atan2(contact[2] + self.radius);
-        let (c, s) = (phi.cos(), phi.sin());
-        for p in nodes {
-            let d = [p[0] - centre[0], p[2] - centre[2]];
-            p[0] = centre[0] + d[0] * c + d[1] * s;
-            p[2] = centre[2] - d[0] * s + d[1] * c;
-        }
+        tilt_ball(nodes, centre, phi);
     }
 
     /// A world vector (velocity, spin) in model coordinates.

@@ -606,6 +606,23 @@ impl Tables {
                 file.set_attr_numeric("specimen_axis_deg", &axis.y.atan2(axis.x).to_degrees())
                     .map_err(&e)?;
             }
+            SpecimenShape::Groove(g) => {
+                let z = g.size();
+                file.set_attr_string("specimen_shape", "groove")
+                    .map_err(&e)?;
+                for (name, value) in [
+                    ("specimen_radius_m", z.radius),
+                    ("specimen_bottom_m", z.bottom),
+                    ("specimen_flank_deg", z.flank.to_degrees()),
+                    ("specimen_depth_m", z.depth),
+                    ("specimen_edge_radius_m", z.edge_radius),
+                    // 0: one groove, its lands running on for ever.
+                    ("specimen_pitch_m", z.pitch.unwrap_or(0.0)),
+                    ("specimen_axis_deg", z.axis_angle.to_degrees()),
+                ] {
+                    file.set_attr_numeric(name, &value).map_err(&e)?;
+                }
+            }
         }
         let json = serde_json::to_string(summary).expect("BUG: summary serialises");
         file.set_attr_string("summary_json", &json).map_err(&e)?;

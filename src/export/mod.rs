@@ -221,7 +221,7 @@ pub fn export(
             target_material,
             source: source.to_string(),
             selection: req.selection.describe(),
-            shape: scene.specimen_shape,
+            shape: scene.specimen_shape.clone(),
         };
         let model = deck::build(&selected, &settings)?;
         for d in &decks {

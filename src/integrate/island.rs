@@ -627,7 +627,7 @@ impl Ctx<'_> {
             m.sliding = false;
             return was;
         }
-        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+        let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
         let delta = (load / k).powf(2.0 / 3.0);
         if !m.sliding && (-sp.gap(&p, m.body.radius) - delta).abs() > SLIDE_OVERLAP * delta {
             return false;
@@ -783,7 +783,7 @@ impl Ctx<'_> {
                 // normal speed at 10 m/s). The contact then misses at most the
                 // `1e-9 R` of overlap the location leaves, i.e. ~1e-14 s of force.
                 if gap < 0.0 && (m.on_specimen || !self.onsets_located) {
-                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
                     // A contact pushing at the step's start: its force unclamped, so the
                     // stages of a step that runs past its kink see a smooth force (and the
                     // error estimate an error of the step's order, not of a kink's), and
@@ -978,7 +978,7 @@ impl Ctx<'_> {
                 let gap = sp.gap(&p, m.body.radius);
                 if gap < 0.0 {
                     on_specimen = true;
-                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
                     let vn = sp.normal_velocity(&p, &v);
                     let law = sp.law_of(m, vn);
                     let f_n = law.force(k, mass, -gap, -vn);
@@ -1161,8 +1161,8 @@ impl Ctx<'_> {
             .specimen
             .as_ref()
             .expect("BUG: specimen contact without specimen");
-        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
         let p = pos(y, i);
+        let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
         let overlap = -sp.gap(&p, m.body.radius);
         let vn = sp.normal_velocity(&p, &vel(y, i));
         sp.law_of(m, vn)
@@ -1270,8 +1270,8 @@ impl Ctx<'_> {
                     && t - m.specimen_onset <= 3.0 * m.specimen_contact_time
                     && self.specimen_unloading(m, i, y) > 0.0
                     && {
-                        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
                         let p = pos(y, i);
+                        let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
                         let overlap = -sp.gap(&p, m.body.radius);
                         let vn = sp.normal_velocity(&p, &vel(y, i));
                         let mu = fr.map_or(0.0, |f| f.specimen);
@@ -1439,7 +1439,7 @@ impl Ctx<'_> {
         let vn = sp.normal_velocity(p, v);
         m.specimen_damping = sp.law_at(-vn).damping;
         m.on_specimen = true;
-        let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+        let k = sp.law.stiffness(sp.effective_radius(p, m.body.radius));
         m.specimen_contact_time = hertz::contact_time(m.body.mass, k, (-vn).max(MIN_CONTACT_SPEED));
         m.specimen_onset = t;
         m.hits += 1;
@@ -1715,7 +1715,7 @@ impl Ctx<'_> {
                 && !m.sliding
             {
                 if m.on_specimen {
-                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
                     let overlap = -sp.gap(&p, m.body.radius);
                     cap = cap.min(in_contact(
                         &sp.law_of(m, sp.normal_velocity(&p, &v)),
@@ -1726,12 +1726,22 @@ impl Ctx<'_> {
                         k,
                     ));
                 } else {
-                    let k = sp.law.stiffness(sp.effective_radius(m.body.radius));
+                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
                     let vn = sp.normal_velocity(&p, &v);
+                    // Towards a convex part the gap closes no faster than `-vn`; in a
+                    // groove a shot may close on another face than the nearest (along
+                    // the bottom towards a flank: `SpecimenShape::closing_speed`; found
+                    // by bench/random_scenes.py --groove, where such a step crossed a
+                    // tooth's edge unseen).
+                    let closing = if sp.shape.is_plane() {
+                        -vn
+                    } else {
+                        sp.shape.closing_speed(&p, &v, m.body.radius)
+                    };
                     cap = cap.min(approach(
                         &sp.law_at(-vn),
                         sp.gap(&p, m.body.radius),
-                        -vn,
+                        closing,
                         m.body.mass,
                         k,
                         cap,
@@ -1884,7 +1894,7 @@ impl Ctx<'_> {
                 }
             };
             if let Some(sp) = &c.specimen {
-                let k = sp.law.stiffness(sp.effective_radius(r));
+                let k = sp.law.stiffness(sp.effective_radius(&p, r));
                 if m.on_specimen && fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
                     let mu = fr.map_or(0.0, |f| f.specimen);
                     let (tc, on) = (m.specimen_contact_time, m.specimen_onset);

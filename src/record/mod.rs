@@ -117,7 +117,7 @@ impl Impact {
                 -vel.z,
                 (vel.x * vel.x + vel.y * vel.y).sqrt(),
             ),
-            SpecimenShape::Cylinder { .. } => {
+            _ => {
                 let n = shape.normal(pos);
                 let vn = vel.dot(&n);
                 (pos - n * (shape.distance(pos)), -vn, (vel - n * vn).norm())

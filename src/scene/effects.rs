@@ -240,6 +240,25 @@ impl Scene {
                 super::validate::num(axis.y.atan2(axis.x).to_degrees())
             );
         }
+        if let (crate::contact::specimen::SpecimenShape::Groove(g), true) =
+            (&self.specimen_shape, decisions[3].on)
+        {
+            let z = g.size();
+            let n = super::validate::num;
+            decisions[3].reason += &format!(
+                "; a groove {} mm deep, root fillets of {} mm, a {} mm bottom, flanks {} degrees \
+                 from the vertical, edges of {} mm, its axis at {} degrees from +x{}",
+                n(z.depth * 1e3),
+                n(z.radius * 1e3),
+                n(z.bottom * 1e3),
+                n(z.flank.to_degrees()),
+                n(z.edge_radius * 1e3),
+                n(z.axis_angle.to_degrees()),
+                z.pitch
+                    .map(|p| format!(", repeated every {} mm", n(p * 1e3)))
+                    .unwrap_or_default()
+            );
+        }
         Effects {
             drag: decisions[0].on,
             lateral_force: decisions[1].on,

@@ -102,6 +102,11 @@ pub const EXAMPLES: &[Example] = &[
         false,
         "S230 onto a spring's 8 mm wire: a cylindrical specimen (beyond the paper)"
     ),
+    example!(
+        "gear_root",
+        false,
+        "S230 into the tooth spaces of a module 4 rack: a grooved specimen (beyond the paper)"
+    ),
 ];
 
 /// The example called `name`.

@@ -362,14 +362,26 @@ pub struct ListShotFile {
 pub struct SpecimenFile {
     /// Specimen material (library name). Table 2: steel E = 210 GPa.
     pub material: String,
-    /// Surface: "plane" (the paper's flat plate, `z = 0`) or "cylinder" (beyond the
-    /// paper: a bar or a spring's wire, its crest line at `z = 0` through the origin).
+    /// Surface: "plane" (the paper's flat plate, `z = 0`), "cylinder" (beyond the
+    /// paper: a bar or a spring's wire, its crest line at `z = 0` through the origin) or
+    /// "groove" (beyond the paper: a slot, or a rack's or gear's tooth spaces, its
+    /// bottom's middle line at `z = 0` through the origin).
     pub shape: String,
-    /// Cylinder radius, mm (`shape = "cylinder"` only).
+    /// Cylinder radius, or a groove's root fillet radius, mm.
     pub radius_mm: Option<f64>,
-    /// Direction of the cylinder's horizontal axis, degrees from +x (`shape =
-    /// "cylinder"` only; default 90: along y).
+    /// Direction of the cylinder's or the groove's horizontal axis, degrees from +x
+    /// (default 90: along y).
     pub axis_deg: Option<f64>,
+    /// A groove's flat bottom width between its fillets, mm (default 0: a round bottom).
+    pub bottom_mm: Option<f64>,
+    /// A groove's flanks' lean from the vertical, degrees (default 0).
+    pub flank_deg: Option<f64>,
+    /// A groove's depth, bottom to lands, mm.
+    pub depth_mm: Option<f64>,
+    /// A groove's edge radius between flanks and lands, mm (default: `radius_mm`).
+    pub edge_radius_mm: Option<f64>,
+    /// Distance between neighbouring grooves, mm (a rack; default: one groove).
+    pub pitch_mm: Option<f64>,
 }
 
 impl Default for SpecimenFile {
@@ -379,6 +391,11 @@ impl Default for SpecimenFile {
             shape: "plane".into(),
             radius_mm: None,
             axis_deg: None,
+            bottom_mm: None,
+            flank_deg: None,
+            depth_mm: None,
+            edge_radius_mm: None,
+            pitch_mm: None,
         }
     }
 }

@@ -91,6 +91,111 @@ impl Checker<'_> {
 
 /// A range bound for messages: plain for ordinary magnitudes, with an exponent for tiny
 /// or huge ones (`1e-12`, not `0.000000000001`).
+/// `[specimen] shape = "groove"`: its dimensions, checked (`r_max`: the largest shot's
+/// radius, m).
+fn groove(
+    c: &Checker,
+    sf: &super::file::SpecimenFile,
+    r_max: f64,
+) -> Result<crate::contact::specimen::SpecimenShape, SceneError> {
+    use crate::contact::groove::{Groove, GrooveError, GrooveSize};
+    let r_mm = r_max * 1e3;
+    let need = |key: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            c.invalid(
+                key,
+                "shape = \"groove\" needs radius_mm (the root fillet's) and depth_mm (bottom to \
+                 lands)",
+            )
+        })
+    };
+    // Hertz's contact needs the fillet clearly wider than the shot: a shot in a fillet
+    // barely larger than itself touches it along an arc (and the usual rule of peening
+    // wants shots no larger than half the fillet radius).
+    let radius = c.range(
+        "specimen.radius_mm",
+        need("specimen.radius_mm", sf.radius_mm)?,
+        // (rounded to 1e-12 mm, so that the message shows 0.6 and not 0.6000000000000001)
+        B::In((1.5 * r_mm * 1e12).round() / 1e12),
+        B::In(1e4),
+        "mm (from 1.5 times the largest shot's radius: a shot in a tighter fillet touches it \
+         along an arc, beyond Hertz's contact)",
+    )?;
+    let depth = c.range(
+        "specimen.depth_mm",
+        need("specimen.depth_mm", sf.depth_mm)?,
+        B::Ex(0.0),
+        B::In(1e4),
+        "mm",
+    )?;
+    let bottom = c.range(
+        "specimen.bottom_mm",
+        sf.bottom_mm.unwrap_or(0.0),
+        B::In(0.0),
+        B::In(1e4),
+        "mm",
+    )?;
+    let flank = c.range(
+        "specimen.flank_deg",
+        sf.flank_deg.unwrap_or(0.0),
+        B::In(0.0),
+        B::In(60.0),
+        "degrees from the vertical",
+    )?;
+    let edge_radius = c.range(
+        "specimen.edge_radius_mm",
+        sf.edge_radius_mm.unwrap_or(radius),
+        B::In(r_mm),
+        B::In(1e4),
+        "mm (from the largest shot's radius: a sharper edge is not modelled)",
+    )?;
+    let pitch = match sf.pitch_mm {
+        None => None,
+        Some(p) => Some(c.range("specimen.pitch_mm", p, B::Ex(0.0), B::In(1e5), "mm")? * 1e-3),
+    };
+    let axis = c.range(
+        "specimen.axis_deg",
+        sf.axis_deg.unwrap_or(90.0),
+        B::In(0.0),
+        B::Ex(180.0),
+        "degrees from +x",
+    )?;
+    let size = GrooveSize {
+        radius: radius * 1e-3,
+        bottom: bottom * 1e-3,
+        flank: flank.to_radians(),
+        depth: depth * 1e-3,
+        edge_radius: edge_radius * 1e-3,
+        pitch,
+        axis_angle: axis.to_radians(),
+    };
+    match Groove::new(size) {
+        Ok(g) => Ok(crate::contact::specimen::SpecimenShape::Groove(
+            std::sync::Arc::new(g),
+        )),
+        Err(GrooveError::TooShallow { needed }) => Err(c.invalid(
+            "specimen.depth_mm",
+            format!(
+                "a groove {} mm deep cannot hold its fillets and edges: they take (radius_mm + \
+                 edge_radius_mm) x (1 - sin flank_deg) = {} mm; deepen it, or make the radii \
+                 smaller",
+                num(depth),
+                num(needed * 1e3)
+            ),
+        )),
+        Err(GrooveError::PitchTooSmall { needed }) => Err(c.invalid(
+            "specimen.pitch_mm",
+            format!(
+                "the grooves are {} mm wide at their lands: a pitch of {} mm would overlap \
+                 them; use pitch_mm >= {} mm",
+                num(needed * 1e3),
+                num(pitch.unwrap_or(0.0) * 1e3),
+                num(needed * 1e3)
+            ),
+        )),
+    }
+}
+
 fn bound(x: f64) -> String {
     if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e9) {
         format!("{x:e}")
@@ -561,23 +666,42 @@ impl SceneFile {
         let r_max = 0.5 * d_max;
 
         let sf = &f.specimen;
+        let groove_keys = [
+            ("specimen.bottom_mm", sf.bottom_mm.is_some()),
+            ("specimen.flank_deg", sf.flank_deg.is_some()),
+            ("specimen.depth_mm", sf.depth_mm.is_some()),
+            ("specimen.edge_radius_mm", sf.edge_radius_mm.is_some()),
+            ("specimen.pitch_mm", sf.pitch_mm.is_some()),
+        ];
         let specimen_shape = match sf.shape.as_str() {
             "plane" => {
                 for (key, given) in [
                     ("specimen.radius_mm", sf.radius_mm.is_some()),
                     ("specimen.axis_deg", sf.axis_deg.is_some()),
-                ] {
+                ]
+                .into_iter()
+                .chain(groove_keys)
+                {
                     if given {
                         return Err(c.invalid(
                             key,
-                            "only a cylinder has a radius and an axis: set shape = \"cylinder\", \
-                             or leave the key out for the flat specimen",
+                            "the flat specimen has no dimensions: set shape = \"cylinder\" or \
+                             \"groove\", or leave the key out for the flat specimen",
                         ));
                     }
                 }
                 crate::contact::specimen::SpecimenShape::Plane
             }
             "cylinder" => {
+                for (key, given) in groove_keys {
+                    if given {
+                        return Err(c.invalid(
+                            key,
+                            "only a groove has this dimension: a cylinder takes radius_mm and \
+                             axis_deg",
+                        ));
+                    }
+                }
                 let Some(radius_mm) = sf.radius_mm else {
                     return Err(c.invalid(
                         "specimen.radius_mm",
@@ -604,13 +728,34 @@ impl SceneFile {
                 )?;
                 crate::contact::specimen::SpecimenShape::cylinder(radius, axis.to_radians())
             }
+            "groove" => groove(&c, sf, 0.5 * sizes.max_diameter())?,
             other => {
                 return Err(c.invalid(
                     "specimen.shape",
-                    format!("unknown value \"{other}\"; allowed: \"plane\", \"cylinder\""),
+                    format!(
+                        "unknown value \"{other}\"; allowed: \"plane\", \"cylinder\", \"groove\""
+                    ),
                 ));
             }
         };
+        // The nozzle stays above a groove's lands, as above the plate.
+        if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape {
+            let depth = g.size().depth;
+            if nozzle.standoff * angle.sin() - rim <= depth {
+                return Err(c.invalid(
+                    "nozzle.standoff_mm",
+                    format!(
+                        "{} mm at angle_deg = {} puts the exit's rim {} mm below the groove's \
+                         lands (specimen.depth_mm = {}): use standoff_mm > {} mm",
+                        num(n.standoff_mm),
+                        num(n.angle_deg),
+                        num((depth + rim - nozzle.standoff * angle.sin()) * 1e3),
+                        num(depth * 1e3),
+                        num((depth + rim) / angle.sin() * 1e3),
+                    ),
+                ));
+            }
+        }
         let feed = match &s.feed {
             FeedFile::Batch {
                 count,
@@ -800,6 +945,20 @@ impl SceneFile {
                         "min_mm[2] puts shots into the specimen: keep it >= the shot radius",
                     ));
                 }
+                // In a groove the box stays above the lands (it may be wider than the
+                // groove: shots placed in the teeth would start inside the part).
+                if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape
+                    && lo[2] < g.size().depth + r_max
+                {
+                    return Err(c.invalid(
+                        &format!("{k}.min_mm"),
+                        format!(
+                            "min_mm[2] puts shots into the groove's teeth: a box is placed above \
+                             the lands, keep it >= depth_mm + the shot radius = {} mm",
+                            num((g.size().depth + r_max) * 1e3)
+                        ),
+                    ));
+                }
                 Feed::Box {
                     count: *count,
                     min: crate::Vec3::new(lo[0], lo[1], lo[2]),
@@ -901,8 +1060,8 @@ impl SceneFile {
                         crate::Vec3::new(sh.position_mm[0], sh.position_mm[1], sh.position_mm[2])
                             * 1e-3;
                     let above = specimen_shape.distance(&pos);
-                    // (On a cylinder the distance carries a square root's rounding: a
-                    // shot laid on the crest at z = r must pass.)
+                    // (On a curved surface the distance carries a square root's rounding:
+                    // a shot laid on a bar's crest at z = r must pass.)
                     let slack = if specimen_shape.is_plane() {
                         0.0
                     } else {
@@ -912,7 +1071,7 @@ impl SceneFile {
                         let from = if specimen_shape.is_plane() {
                             "above the specimen"
                         } else {
-                            "from the cylinder's surface"
+                            "from the specimen's surface"
                         };
                         return Err(c.invalid(
                             &format!("{k}.position_mm"),
