@@ -324,15 +324,20 @@ impl Groove {
         let r = radius;
         match self.foot(pos).zone {
             Zone::Bottom | Zone::Flank | Zone::Land => r,
-            Zone::Fillet => {
-                let rf = self.size.radius;
-                (r * (r * rf / (rf - r))).sqrt()
-            }
+            Zone::Fillet => self.fillet_effective_radius(r),
             Zone::Edge => {
                 let re = self.size.edge_radius;
                 (r * (r * re / (r + re))).sqrt()
             }
         }
+    }
+
+    /// The fillets' effective radius for a shot of `radius`, the largest anywhere on
+    /// the groove (the stiffest contact).
+    #[inline]
+    pub fn fillet_effective_radius(&self, radius: f64) -> f64 {
+        let (r, rf) = (radius, self.size.radius);
+        (r * (r * rf / (rf - r))).sqrt()
     }
 
     /// Arc length along the half cross-section of the foot of `(a, z)`.
@@ -601,6 +606,8 @@ impl Groove {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     fn rack() -> Groove {
         // ISO 53 basic rack of module 3: 20 degree flanks, root fillet 0.38 m, 2.25 m
@@ -688,13 +695,8 @@ mod tests {
             .unwrap(),
         ] {
             let line = polyline(&g, 100_000);
-            let mut rng = 12345u64;
-            let mut next = || {
-                rng = rng
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (rng >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut rng = ChaCha8Rng::seed_from_u64(12345);
+            let mut next = || rng.random::<f64>();
             let top = g.size().depth;
             for _ in 0..200 {
                 let s = (next() - 0.5) * 12e-3;
@@ -731,13 +733,8 @@ mod tests {
         // surface's gap along them, sampled finely, stays positive before the bound.
         let g = rack();
         let r = 0.3e-3;
-        let mut rng = 987654321u64;
-        let mut next = || {
-            rng = rng
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(987654321);
+        let mut next = || rng.random::<f64>();
         let mut bounded = 0;
         for _ in 0..3000 {
             let p = g.across * ((next() - 0.5) * 30e-3) + Vec3::z() * (next() * 9e-3);

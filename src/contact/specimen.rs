@@ -47,13 +47,12 @@ impl SpecimenShape {
     /// may close its gap to the surface: on the plate and the bar (convex parts, whose
     /// distance is convex along a line) its speed towards the nearest surface point,
     /// `-v . n`; in a groove, where a shot moving along the bottom closes on a flank,
-    /// its gap over the lower bound on the time to touch any face
-    /// ([`Groove::time_to_touch`]).
+    /// its gap (`gap`, the shot's, as [`SpecimenContact::gap`] gives it) over the lower
+    /// bound on the time to touch any face ([`Groove::time_to_touch`]).
     #[inline]
-    pub fn closing_speed(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> f64 {
+    pub fn closing_speed(&self, pos: &Vec3, vel: &Vec3, radius: f64, gap: f64) -> f64 {
         match self {
             SpecimenShape::Groove(g) => {
-                let gap = g.distance(pos) - radius;
                 let t = g.time_to_touch(pos, vel, radius);
                 if gap <= 0.0 || t <= 0.0 {
                     vel.norm()
@@ -136,10 +135,7 @@ impl SpecimenShape {
     /// anywhere on the surface.
     pub fn stiffest_radius(&self, radius: f64) -> f64 {
         match self {
-            SpecimenShape::Groove(g) => {
-                let rf = g.size().radius;
-                (radius * (radius * rf / (rf - radius))).sqrt()
-            }
+            SpecimenShape::Groove(g) => g.fillet_effective_radius(radius),
             _ => self.effective_radius(&Vec3::zeros(), radius),
         }
     }

@@ -1041,9 +1041,9 @@ impl Bend {
     ) -> Result<Option<Bend>, DeckError> {
         Ok(match shape {
             SpecimenShape::Plane => None,
-            SpecimenShape::Cylinder { .. } => {
-                BarBend::new(shape, u0, v0, u_lo, u_hi, depth)?.map(Bend::Bar)
-            }
+            SpecimenShape::Cylinder { radius, axis } => Some(Bend::Bar(BarBend::new(
+                *radius, *axis, u0, v0, u_lo, u_hi, depth,
+            )?)),
             SpecimenShape::Groove(g) => {
                 Some(Bend::Groove(GrooveLay::new(g, u0, v0, u_lo, u_hi, depth)?))
             }
@@ -1212,20 +1212,18 @@ struct BarBend {
 }
 
 impl BarBend {
-    /// `None` on the plane; on a cylinder, refuses a block whose depth reaches the axis
-    /// or that would wrap around the bar (`u_lo..u_hi` about the origin's arc length
-    /// `u0`).
+    /// The block under a bar of `radius` along `axis`; refuses a block whose depth
+    /// reaches the axis or that would wrap around the bar (`u_lo..u_hi` about the
+    /// origin's arc length `u0`).
     fn new(
-        shape: &SpecimenShape,
+        radius: f64,
+        axis: Vec3,
         u0: f64,
         v0: f64,
         u_lo: f64,
         u_hi: f64,
         depth: f64,
-    ) -> Result<Option<BarBend>, DeckError> {
-        let SpecimenShape::Cylinder { radius, axis } = *shape else {
-            return Ok(None);
-        };
+    ) -> Result<BarBend, DeckError> {
         if depth >= 0.8 * radius {
             return Err(DeckError::Bend(format!(
                 "the target block is {:.3} mm deep (2.5 shot radii), too deep for the {:.3} mm \
@@ -1246,13 +1244,13 @@ impl BarBend {
             )));
         }
         let theta0 = u0 / radius;
-        Ok(Some(BarBend {
+        Ok(BarBend {
             radius,
             axis,
             across: axis.cross(&Vec3::z()),
             turn0: (theta0.cos(), theta0.sin()),
             v0,
-        }))
+        })
     }
 
     /// A node of the flat block (relative to the origin) on the bar.

@@ -1733,19 +1733,13 @@ impl Ctx<'_> {
                     // the bottom towards a flank: `SpecimenShape::closing_speed`; found
                     // by bench/random_scenes.py --groove, where such a step crossed a
                     // tooth's edge unseen).
+                    let gap = sp.gap(&p, m.body.radius);
                     let closing = if sp.shape.is_plane() {
                         -vn
                     } else {
-                        sp.shape.closing_speed(&p, &v, m.body.radius)
+                        sp.shape.closing_speed(&p, &v, m.body.radius, gap)
                     };
-                    cap = cap.min(approach(
-                        &sp.law_at(-vn),
-                        sp.gap(&p, m.body.radius),
-                        closing,
-                        m.body.mass,
-                        k,
-                        cap,
-                    ));
+                    cap = cap.min(approach(&sp.law_at(-vn), gap, closing, m.body.mass, k, cap));
                 }
             }
             if let Some(w) = &c.wall {
