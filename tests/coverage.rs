@@ -14,11 +14,13 @@ use std::process::Command;
 fn uniform(n: usize, r: f64, w: f64, t: f64, seed: u64) -> Vec<Dent> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     (0..n)
-        .map(|_| Dent {
-            x: rng.random_range(-r..w + r),
-            y: rng.random_range(-r..w + r),
-            r,
-            t: rng.random_range(0.0..t),
+        .map(|_| {
+            Dent::disc(
+                rng.random_range(-r..w + r),
+                rng.random_range(-r..w + r),
+                r,
+                rng.random_range(0.0..t),
+            )
         })
         .collect()
 }
@@ -79,15 +81,36 @@ fn uniform_random_dents_cover_one_minus_exp_minus_a() {
     }
 }
 
+/// An elliptic dent (a bar's or a groove's) covers its ellipse: the cells whose centre
+/// lies inside, `pi a_x a_y` of the window to the grid's resolution.
 #[test]
-fn one_dent_covers_its_disc() {
-    let r = 1e-3;
+fn one_elliptic_dent_covers_its_ellipse() {
+    let (rx, ry) = (1.5e-3, 0.6e-3);
     let dents = [Dent {
         x: 5e-3,
         y: 5e-3,
-        r,
+        rx,
+        ry,
         t: 0.0,
     }];
+    let cov = compute(&dents, [0.0, 0.0, 10e-3, 10e-3], 10e-6, 1.0);
+    let expected = std::f64::consts::PI * rx * ry / 1e-4;
+    assert!(
+        (cov.final_coverage / expected - 1.0).abs() < 2e-3,
+        "{} vs {expected}",
+        cov.final_coverage
+    );
+    // Covered 1.45 mm across, not 0.65 mm along.
+    let at = |x: f64, y: f64| cov.counts[(y / 10e-6) as usize * cov.nx + (x / 10e-6) as usize];
+    assert_eq!(at(6.445e-3, 5.005e-3), 1);
+    assert_eq!(at(5.005e-3, 5.655e-3), 0);
+    assert_eq!(at(5.005e-3, 5.555e-3), 1);
+}
+
+#[test]
+fn one_dent_covers_its_disc() {
+    let r = 1e-3;
+    let dents = [Dent::disc(5e-3, 5e-3, r, 0.0)];
     let cov = compute(&dents, [0.0, 0.0, 10e-3, 10e-3], 10e-6, 1.0);
     let expected = std::f64::consts::PI * r * r / 1e-4;
     assert!(
@@ -98,12 +121,7 @@ fn one_dent_covers_its_disc() {
     assert_eq!(cov.dents_in_window, 1);
     assert_eq!(*cov.counts.iter().max().unwrap(), 1);
     // A dent outside the window covers nothing.
-    let far = [Dent {
-        x: 50e-3,
-        y: 5e-3,
-        r,
-        t: 0.0,
-    }];
+    let far = [Dent::disc(50e-3, 5e-3, r, 0.0)];
     let cov = compute(&far, [0.0, 0.0, 10e-3, 10e-3], 10e-6, 1.0);
     assert_eq!((cov.final_coverage, cov.dents_in_window), (0.0, 0));
 }
@@ -400,7 +418,9 @@ fn dents_on_a_bar_sit_on_its_unrolled_surface() {
         (d.x - 5e-3 * th).abs() < 1e-15 && (d.y - 3e-3).abs() < 1e-15,
         "{d:?}"
     );
-    // The same normal speed head-on on the plate: the same dent.
+    // The same normal speed head-on on the plate: the flat dent's radius `a`; on the
+    // bar an ellipse, `a q^(3/8)` around and `a q^(-1/8)` along it, `q = 1/(1 + r/R_c)`
+    // (docs/coverage.md).
     let flat = Impact::new(
         0,
         1e-3,
@@ -412,7 +432,10 @@ fn dents_on_a_bar_sit_on_its_unrolled_surface() {
         0,
         true,
     );
-    assert!((dents(&[flat], &model)[0].r / d.r - 1.0).abs() < 1e-12);
+    let a = dents(&[flat], &model)[0].rx;
+    let q: f64 = 1.0 / (1.0 + 4e-4 / 5e-3);
+    assert!((d.rx / (a * q.powf(0.375)) - 1.0).abs() < 1e-12, "{d:?}");
+    assert!((d.ry / (a * q.powf(-0.125)) - 1.0).abs() < 1e-12, "{d:?}");
 
     // End to end: the spring wire's coverage names the bar's axes.
     let tmp = tempfile::tempdir().unwrap();

@@ -32,12 +32,7 @@ fn still(t: f64, seed: u64) -> Vec<Dent> {
     (0..(RATE * t) as usize)
         .map(|_| {
             let (x, y) = draw(&mut rng);
-            Dent {
-                x,
-                y,
-                r: RADIUS,
-                t: rng.random_range(0.0..t),
-            }
+            Dent::disc(x, y, RADIUS, rng.random_range(0.0..t))
         })
         .collect()
 }
@@ -69,12 +64,12 @@ fn moving(lines: &[f64], length: f64, seed: u64) -> Vec<Dent> {
         for _ in 0..(RATE * duration) as usize {
             let t = rng.random_range(0.0..duration);
             let (x, y) = draw(&mut rng);
-            dents.push(Dent {
-                x: x - 0.5 * length + SPEED * t,
-                y: y + line,
-                r: RADIUS,
+            dents.push(Dent::disc(
+                x - 0.5 * length + SPEED * t,
+                y + line,
+                RADIUS,
                 t,
-            });
+            ));
         }
     }
     dents

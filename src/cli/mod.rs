@@ -656,6 +656,11 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         c.ny,
         c.cell * 1e6
     );
+    if let Some([lo, mid, hi]) = r.dent_aspect {
+        println!(
+            "dents on the curved surface are ellipses: across / along {lo:.3} to {hi:.3} (median {mid:.3}); diameters are those of the disc of the same area"
+        );
+    }
     println!(
         "coverage {:.2} % after {:.3} ms of exposure (from the first impact, {} dents touch the window)",
         100.0 * c.final_coverage,

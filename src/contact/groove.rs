@@ -332,6 +332,16 @@ impl Groove {
         }
     }
 
+    /// Signed curvature (1/m, convex positive) of the piece under `pos` across the
+    /// groove ([`crate::contact::specimen::SpecimenShape::curvature_across`]).
+    pub fn curvature_across(&self, pos: &Vec3) -> f64 {
+        match self.foot(pos).zone {
+            Zone::Bottom | Zone::Flank | Zone::Land => 0.0,
+            Zone::Fillet => -1.0 / self.size.radius,
+            Zone::Edge => 1.0 / self.size.edge_radius,
+        }
+    }
+
     /// The fillets' effective radius for a shot of `radius`, the largest anywhere on
     /// the groove (the stiffest contact).
     #[inline]

@@ -131,6 +131,19 @@ impl SpecimenShape {
         }
     }
 
+    /// Curvature (1/m) of the surface across, at the foot of `pos`, positive where it
+    /// is convex: 0 on the plane, `1/R_c` around the bar, in a groove `-1/R_f` in the
+    /// fillets, `1/R_e` on the edges and 0 on the flat pieces. Along the bar's or the
+    /// groove's axis the surface is straight. Dents are shaped by it
+    /// ([`crate::coverage::dent::DentModel::footprint`]).
+    pub fn curvature_across(&self, pos: &Vec3) -> f64 {
+        match self {
+            SpecimenShape::Plane => 0.0,
+            SpecimenShape::Cylinder { radius, .. } => 1.0 / radius,
+            SpecimenShape::Groove(g) => g.curvature_across(pos),
+        }
+    }
+
     /// The largest effective radius (the stiffest contact) a shot of `radius` meets
     /// anywhere on the surface.
     pub fn stiffest_radius(&self, radius: f64) -> f64 {

@@ -11,6 +11,20 @@
 //!   Hertz contact radius at the peak of the impact, `a = sqrt(R delta_max)`,
 //!   `delta_max = (5 m v_n^2 / (4 K))^(2/5)`, `K = 4/3 E* sqrt(R)`: the footprint of the
 //!   contact (an elastic target keeps no permanent dent).
+//!
+//! On a curved surface (a bar, a groove's fillet or edge: beyond the paper) the dent is
+//! an ellipse ([`DentModel::footprint`]). Across, the gap between shot and surface grows
+//! as `x^2 / (2 R_x)` with `1/R_x = 1/R + kappa` (`kappa`: the surface's curvature,
+//! convex positive); along the axis, where the surface is straight, as `y^2 / (2 R)`.
+//! * **Plastic**: a dent `h` deep has semi-axes `sqrt(2 h R_x)` and `sqrt(2 h R)` and
+//!   volume `pi h^2 sqrt(R_x R)`; the energy balance then gives, with `q = R_x / R`,
+//!   `a_x = a q^(3/8)`, `a_y = a q^(-1/8)` (`a`: the flat dent's radius). A concave
+//!   fillet conforms (`q > 1`): its dents are longer across and larger (area `q^(1/4)`).
+//! * **Elastic**: Hertz's ellipse with the contact law the simulation uses (`K` from
+//!   `R_e = sqrt(R_x R)`): `sqrt(a_x a_y) = sqrt(R_e delta_max)` and `a_x / a_y =
+//!   q^(2/3)` (Greenwood's fit of Hertz's elliptic integrals: 0.1 % up to `q = 2`,
+//!   0.4 % at the tightest fillet allowed, `q = 3`).
+//! * **Measured** curves are the flat part's: the plastic model's factors shape them.
 
 use crate::scene::Material;
 
@@ -91,6 +105,37 @@ impl DentModel {
                 let k = 4.0 / 3.0 * effective_modulus * radius.sqrt();
                 let delta = (5.0 * mass * v_n * v_n / (4.0 * k)).powf(0.4);
                 (radius * delta).sqrt()
+            }
+        }
+    }
+
+    /// Semi-axes `(a_x, a_y)` (m) of the dent of a shot of `radius` (m) and `mass` (kg)
+    /// at normal speed `v_n` on a surface whose curvature across is `kappa` (1/m, convex
+    /// positive; straight along): `a_x` across, `a_y` along (see the module's notes). On
+    /// the plate (`kappa = 0`) both are [`DentModel::radius`].
+    pub fn footprint(&self, radius: f64, mass: f64, v_n: f64, kappa: f64) -> (f64, f64) {
+        if kappa == 0.0 {
+            let a = self.radius(radius, mass, v_n);
+            return (a, a);
+        }
+        // R_x / R; positive for every shape the scene allows (fillets of at least 1.5
+        // shot radii).
+        let q = 1.0 / (1.0 + radius * kappa);
+        match *self {
+            DentModel::Elastic { effective_modulus } => {
+                if v_n <= 0.0 {
+                    return (0.0, 0.0);
+                }
+                let re = radius * q.sqrt();
+                let k = 4.0 / 3.0 * effective_modulus * re.sqrt();
+                let delta = (5.0 * mass * v_n * v_n / (4.0 * k)).powf(0.4);
+                let c = (re * delta).sqrt();
+                let s = q.cbrt();
+                (c * s, c / s)
+            }
+            _ => {
+                let a = self.radius(radius, mass, v_n);
+                (a * q.powf(0.375), a * q.powf(-0.125))
             }
         }
     }
@@ -202,5 +247,144 @@ mod tests {
         let f = k * delta.powf(1.5);
         let a_hertz = (3.0 * f * r / (4.0 * e)).cbrt();
         assert!((a / a_hertz - 1.0).abs() < 1e-12);
+    }
+
+    /// The rigid-plastic dent on a curved surface against the exact geometry: a sphere
+    /// pressed `h` into a convex bar (`R_c = 12.5 R`) or a concave fillet (`R_f = 2 R`,
+    /// `q = 2`), the displaced volume integrated numerically over the footprint, `h`
+    /// bisected until `p_d V` is the impact's energy, the semi-axes where sphere and
+    /// surface meet. The module's `q^(3/8)`, `q^(-1/8)` are shallow-dent limits: at 2 m/s
+    /// (`h / R = 0.005`) they agree within 0.3 %, at 20 m/s within 2.5 %, in ratio to
+    /// the flat dent computed the same way.
+    #[test]
+    fn a_curved_plastic_dent_matches_the_exact_geometry_when_shallow() {
+        let (r, rho, p): (f64, f64, f64) = (0.4e-3, 7850.0, 690e6);
+        let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let model = DentModel::Plastic { pressure: p };
+        // Height of the surface across (convex kappa > 0 falls away, concave rises).
+        let surface = |x: f64, k: f64| {
+            if k == 0.0 {
+                0.0
+            } else {
+                let rc = 1.0 / k.abs();
+                k.signum() * ((rc * rc - x * x).sqrt() - rc)
+            }
+        };
+        let sphere = |x: f64, y: f64, h: f64| r - h - (r * r - x * x - y * y).max(0.0).sqrt();
+        let semi_x = |h: f64, k: f64| {
+            let (mut lo, mut hi) = (0.0, r);
+            for _ in 0..80 {
+                let mid = 0.5 * (lo + hi);
+                if sphere(mid, 0.0, h) < surface(mid, k) {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            lo
+        };
+        let volume = |h: f64, k: f64, n: usize| {
+            let (ax, ay) = (semi_x(h, k), (2.0 * r * h - h * h).sqrt());
+            let (dx, dy) = (2.0 * ax / n as f64, 2.0 * ay / n as f64);
+            let mut v = 0.0;
+            for i in 0..n {
+                let x = -ax + (i as f64 + 0.5) * dx;
+                for j in 0..n {
+                    let y = -ay + (j as f64 + 0.5) * dy;
+                    v += (surface(x, k) - sphere(x, y, h)).max(0.0) * dx * dy;
+                }
+            }
+            (v, ax, ay)
+        };
+        let exact = |v_n: f64, k: f64| {
+            let e = 0.5 * m * v_n * v_n;
+            let (mut lo, mut hi) = (0.0, 0.5 * r);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if p * volume(mid, k, 120).0 < e {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            let (_, ax, ay) = volume(lo, k, 120);
+            (ax, ay)
+        };
+        for (v_n, tol) in [(2.0, 3e-3), (20.0, 2.5e-2)] {
+            let (flat, _) = exact(v_n, 0.0);
+            for k in [1.0 / (12.5 * r), -1.0 / (2.0 * r)] {
+                let (ax, ay) = exact(v_n, k);
+                let (mx, my) = model.footprint(r, m, v_n, k);
+                let a = model.radius(r, m, v_n);
+                let ex = (mx / a) / (ax / flat) - 1.0;
+                let ey = (my / a) / (ay / flat) - 1.0;
+                assert!(
+                    ex.abs() < tol && ey.abs() < tol,
+                    "{v_n} m/s, kappa {k}: across {ex:e}, along {ey:e}"
+                );
+            }
+        }
+        // On the plate, the round dent.
+        let a = model.radius(r, m, 60.0);
+        assert_eq!(model.footprint(r, m, 60.0, 0.0), (a, a));
+    }
+
+    /// The elastic footprint on a curved surface against Hertz's elliptic contact: the
+    /// axes' ratio solves `B/A = (E(e)/(1 - e^2) - K(e)) / (K(e) - E(e))` (Johnson,
+    /// Contact Mechanics, Sec. 4.2; complete elliptic integrals by the arithmetic-
+    /// geometric mean) within 0.1 % for a bar and a fillet up to `q = 2`, 0.5 % at the
+    /// tightest fillet the scene allows (1.5 shot radii, `q = 3`), and the footprint's mean
+    /// radius is `sqrt(R_e delta_max)` with the contact law the simulation uses.
+    #[test]
+    fn a_curved_elastic_dent_is_hertz_s_ellipse() {
+        let elliptic = |e: f64| {
+            let (mut a, mut b, mut c) = (1.0f64, (1.0 - e * e).sqrt(), e);
+            let mut sum = 0.5 * c * c;
+            let mut w = 0.5;
+            while (a - b).abs() > 1e-15 {
+                (a, b, c) = (0.5 * (a + b), (a * b).sqrt(), 0.5 * (a - b));
+                w *= 2.0;
+                sum += w * c * c;
+            }
+            let k = std::f64::consts::FRAC_PI_2 / a;
+            (k, k * (1.0 - sum))
+        };
+        let ratio_of = |q: f64| {
+            // Major over minor semi-axis for relative radii in ratio q >= 1.
+            let (mut lo, mut hi) = (1e-9, 1.0 - 1e-12);
+            for _ in 0..200 {
+                let e = 0.5 * (lo + hi);
+                let (k, ee) = elliptic(e);
+                if (ee / (1.0 - e * e) - k) / (k - ee) < q {
+                    lo = e
+                } else {
+                    hi = e
+                }
+            }
+            1.0 / (1.0 - lo * lo).sqrt()
+        };
+        let (r, e_star, m) = (0.4e-3, 115e9, 2.1e-6);
+        let model = DentModel::Elastic {
+            effective_modulus: e_star,
+        };
+        for k in [1.0 / (5.0 * r), -1.0 / (1.5 * r), -1.0 / (4.0 * r)] {
+            let q: f64 = 1.0 / (1.0 + r * k);
+            let (ax, ay) = model.footprint(r, m, 60.0, k);
+            let hertz = if q >= 1.0 {
+                ratio_of(q)
+            } else {
+                1.0 / ratio_of(1.0 / q)
+            };
+            let tol = if q <= 2.0 { 1e-3 } else { 5e-3 };
+            assert!(
+                ((ax / ay) / hertz - 1.0).abs() < tol,
+                "kappa {k}: {} against {hertz}",
+                ax / ay
+            );
+            let re = r * q.sqrt();
+            let kk = 4.0 / 3.0 * e_star * re.sqrt();
+            let delta = (5.0 * m * 3600.0 / (4.0 * kk)).powf(0.4);
+            assert!((ax * ay / (re * delta) - 1.0).abs() < 1e-12);
+        }
     }
 }

@@ -18,17 +18,50 @@ use crate::contact::specimen::SpecimenShape;
 use crate::record::Impact;
 use dent::DentModel;
 
-/// One dent: centre (m), radius (m), time (s).
+/// One dent: centre (m), semi-axes along x and y (m), time (s). A disc on the plate; on a
+/// curved surface an ellipse whose axes are the unrolled surface's (across and along).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dent {
     /// Centre x, m.
     pub x: f64,
     /// Centre y, m.
     pub y: f64,
-    /// Radius, m.
-    pub r: f64,
+    /// Semi-axis along x (across a bar or a groove), m.
+    pub rx: f64,
+    /// Semi-axis along y (along a bar's or a groove's axis), m.
+    pub ry: f64,
     /// Time of the impact, s.
     pub t: f64,
+}
+
+impl Dent {
+    /// A round dent of radius `r` (m).
+    pub fn disc(x: f64, y: f64, r: f64, t: f64) -> Dent {
+        Dent {
+            x,
+            y,
+            rx: r,
+            ry: r,
+            t,
+        }
+    }
+
+    /// The radius of the disc of the same area, `sqrt(rx ry)`, m.
+    pub fn radius(&self) -> f64 {
+        (self.rx * self.ry).sqrt()
+    }
+
+    /// Whether the point `(x, y)` lies in the dent (its border included).
+    #[inline]
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        let (dx, dy) = (x - self.x, y - self.y);
+        if self.rx == self.ry {
+            dx * dx + dy * dy <= self.rx * self.rx
+        } else {
+            let (u, v) = (dx / self.rx, dy / self.ry);
+            u * u + v * v <= 1.0
+        }
+    }
 }
 
 /// Dents of the impacts with a positive normal speed, on the flat specimen.
@@ -38,17 +71,26 @@ pub fn dents(impacts: &[Impact], model: &DentModel) -> Vec<Dent> {
 
 /// [`dents`] on the specimen surface `shape`, placed on its unrolled surface
 /// ([`SpecimenShape::unrolled`]: on a cylinder, the arc length around the bar and the
-/// distance along its axis). A dent is far smaller than the bar, so it is a disc there.
+/// distance along its axis). A dent is far smaller than the bar, so it lies flat there;
+/// the surface's curvature across makes it an ellipse ([`DentModel::footprint`]).
 pub fn dents_on(impacts: &[Impact], model: &DentModel, shape: &SpecimenShape) -> Vec<Dent> {
     impacts
         .iter()
         .filter(|i| i.normal_speed_m_s > 0.0)
         .map(|i| {
             let (x, y) = shape.unrolled(&crate::Vec3::new(i.x_m, i.y_m, i.z_m));
+            let centre = crate::Vec3::new(i.center_x_m, i.center_y_m, i.center_z_m);
+            let (rx, ry) = model.footprint(
+                0.5 * i.diameter_m,
+                i.mass_kg,
+                i.normal_speed_m_s,
+                shape.curvature_across(&centre),
+            );
             Dent {
                 x,
                 y,
-                r: model.radius(0.5 * i.diameter_m, i.mass_kg, i.normal_speed_m_s),
+                rx,
+                ry,
                 t: i.time_s,
             }
         })
@@ -124,7 +166,7 @@ pub fn default_window(dents: &[Dent]) -> Option<[f64; 4]> {
     };
     let cx = median(dents.iter().map(|d| d.x).collect());
     let cy = median(dents.iter().map(|d| d.y).collect());
-    let rd = median(dents.iter().map(|d| d.r).collect());
+    let rd = median(dents.iter().map(Dent::radius).collect());
     let w = median(
         dents
             .iter()
@@ -151,11 +193,11 @@ pub fn compute(dents: &[Dent], window: [f64; 4], cell: f64, t_end: f64) -> Cover
     let mut first_time = vec![f64::INFINITY; nx * ny];
     let mut in_window = 0;
     for d in dents {
-        // Cells whose centre lies within the disc.
-        let i_lo = (((d.x - d.r - x0) / hx - 0.5).ceil().max(0.0)) as usize;
-        let i_hi = ((d.x + d.r - x0) / hx - 0.5).floor();
-        let j_lo = (((d.y - d.r - y0) / hy - 0.5).ceil().max(0.0)) as usize;
-        let j_hi = ((d.y + d.r - y0) / hy - 0.5).floor();
+        // Cells whose centre lies within the dent.
+        let i_lo = (((d.x - d.rx - x0) / hx - 0.5).ceil().max(0.0)) as usize;
+        let i_hi = ((d.x + d.rx - x0) / hx - 0.5).floor();
+        let j_lo = (((d.y - d.ry - y0) / hy - 0.5).ceil().max(0.0)) as usize;
+        let j_hi = ((d.y + d.ry - y0) / hy - 0.5).floor();
         if i_hi < 0.0 || j_hi < 0.0 {
             continue;
         }
@@ -166,7 +208,7 @@ pub fn compute(dents: &[Dent], window: [f64; 4], cell: f64, t_end: f64) -> Cover
             let cy = y0 + (j as f64 + 0.5) * hy;
             for i in i_lo..=i_hi {
                 let cx = x0 + (i as f64 + 0.5) * hx;
-                if (cx - d.x).powi(2) + (cy - d.y).powi(2) <= d.r * d.r {
+                if d.contains(cx, cy) {
                     let k = j * nx + i;
                     counts[k] += 1;
                     first_time[k] = first_time[k].min(d.t);

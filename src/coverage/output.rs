@@ -45,8 +45,12 @@ pub struct Report {
     pub target: String,
     /// Dents (impacts with a positive normal speed).
     pub dents: usize,
-    /// Median dent diameter, m.
+    /// Median dent diameter, m (on a curved part, that of the disc of a dent's area).
     pub median_dent_diameter: f64,
+    /// On a curved part (a bar, a groove's fillets and edges): the dents' ratio of the
+    /// axis across to the axis along, `[min, median, max]` (`None` on the plate, where
+    /// dents are round).
+    pub dent_aspect: Option<[f64; 3]>,
     /// The coverage.
     pub coverage: Coverage,
     /// Files written.
@@ -190,9 +194,14 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
             message: "no impact with a positive normal speed: nothing dents the specimen".into(),
         });
     }
-    let mut radii: Vec<f64> = ds.iter().map(|d| d.r).collect();
+    let mut radii: Vec<f64> = ds.iter().map(super::Dent::radius).collect();
     radii.sort_by(f64::total_cmp);
     let median_r = crate::summary::percentile(&radii, 50.0);
+    let dent_aspect = (!scene.specimen_shape.is_plane()).then(|| {
+        let mut a: Vec<f64> = ds.iter().map(|d| d.rx / d.ry).collect();
+        a.sort_by(f64::total_cmp);
+        [a[0], crate::summary::percentile(&a, 50.0), a[a.len() - 1]]
+    });
     let window = match req.window {
         Some(w) => w,
         None => default_window(&ds).expect("BUG: dents are not empty"),
@@ -255,6 +264,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         "dents": ds.len(),
         "dents_in_window": cov.dents_in_window,
         "median_dent_diameter_m": 2.0 * median_r,
+        "dent_aspect_across_along": dent_aspect,
         "window_m": cov.window,
         "cell_m": cov.cell,
         "cells": [cov.nx, cov.ny],
@@ -345,6 +355,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         target: target.name,
         dents: ds.len(),
         median_dent_diameter: 2.0 * median_r,
+        dent_aspect,
         coverage: cov,
         written,
         seed: (seed, seeds.len().max(1)),

@@ -22,8 +22,10 @@
 //!
 //! The rate comes from the dents' own times (`T` is their span, times `N / (N - 1)`), so
 //! a feed that stops before the run ends does not dilute it. Assumed: the run is a
-//! steady stream (the pattern does not change over the run), the part is flat, and the
-//! dents are those of [`super::dents`] (rebound hits included).
+//! steady stream (the pattern does not change over the run), the part is flat (or a
+//! bar or groove, on its unrolled surface), and the dents are those of
+//! [`super::dents_on`] (rebound hits included). An elliptic dent (a curved part's) is a
+//! disc stretched along the track ([`Across`]).
 
 use super::Dent;
 
@@ -126,8 +128,8 @@ impl Track {
         }
         let rate = n as f64 / exposure;
         let (s, c) = traverse.direction.sin_cos();
-        let across: Vec<(f64, f64)> = dents.iter().map(|d| (-d.x * s + d.y * c, d.r)).collect();
-        let reach = |(w, r): &(f64, f64), side: f64| w + side * (r + 0.5 * band);
+        let across: Vec<Across> = dents.iter().map(|d| Across::of(d, s, c)).collect();
+        let reach = |a: &Across, side: f64| a.w + side * (a.half + 0.5 * band);
         let lo = across
             .iter()
             .map(|a| reach(a, -1.0))
@@ -257,22 +259,58 @@ fn least_or_most(pts: &[Point], better: impl Fn(&Point, &Point) -> bool) -> Poin
         .fold(first, |a, p| if better(&a, p) { *p } else { a })
 }
 
+/// A dent seen across the track: its lateral offset `w`, the half-width `half` of its
+/// shadow across the track, and the ratio `stretch` of its chords along the track to
+/// those of the disc of radius `half`. An ellipse with semi-axes `a_x`, `a_y` is the
+/// image of that disc under a shear-and-stretch along the track: its half-width across
+/// the direction of travel `(c, s)` is `W = sqrt((a_x s)^2 + (a_y c)^2)` and its chord
+/// at offset `d` is `(a_x a_y / W^2) 2 sqrt(W^2 - d^2)` (the chords still sum to its
+/// area, `pi a_x a_y`). A disc has `W = r` and `stretch = 1`.
+#[derive(Debug, Clone, Copy)]
+struct Across {
+    w: f64,
+    half: f64,
+    stretch: f64,
+}
+
+impl Across {
+    /// Dent `d` across a track along `(c, s)` (cosine and sine of the direction).
+    fn of(d: &Dent, s: f64, c: f64) -> Across {
+        let w = -d.x * s + d.y * c;
+        if d.rx == d.ry {
+            return Across {
+                w,
+                half: d.rx,
+                stretch: 1.0,
+            };
+        }
+        let half = (d.rx * s).hypot(d.ry * c);
+        Across {
+            w,
+            half,
+            stretch: d.rx * d.ry / (half * half),
+        }
+    }
+}
+
 /// Calls `add(q, chord)` for every point `q spacing` of the line whose band (`band` m
-/// wide, centred on it) meets a dent's disc, with the disc's chord along the traverse
-/// averaged over the band (the chord through the point itself for `band = 0`; `across`:
-/// each dent's lateral offset and radius).
-fn for_each_chord(across: &[(f64, f64)], spacing: f64, band: f64, mut add: impl FnMut(i64, f64)) {
+/// wide, centred on it) meets a dent, with the dent's chord along the traverse averaged
+/// over the band (the chord through the point itself for `band = 0`; `across`: each
+/// dent as the track sees it).
+fn for_each_chord(across: &[Across], spacing: f64, band: f64, mut add: impl FnMut(i64, f64)) {
     let half = 0.5 * band;
-    for &(w, r) in across {
+    for a in across {
+        let (w, r) = (a.w, a.half);
         let q_lo = ((w - r - half) / spacing).ceil() as i64;
         let q_hi = ((w + r + half) / spacing).floor() as i64;
         for q in q_lo..=q_hi {
             let d = q as f64 * spacing - w;
-            let chord = if band > 0.0 {
+            let disc = if band > 0.0 {
                 (disc_below(d + half, r) - disc_below(d - half, r)) / band
             } else {
                 2.0 * (r * r - d * d).max(0.0).sqrt()
             };
+            let chord = a.stretch * disc;
             if chord > 0.0 {
                 add(q, chord);
             }
@@ -292,7 +330,7 @@ mod tests {
     use super::*;
 
     fn dent(x: f64, y: f64, r: f64, t: f64) -> Dent {
-        Dent { x, y, r, t }
+        Dent::disc(x, y, r, t)
     }
 
     #[test]
@@ -404,6 +442,57 @@ mod tests {
         assert!(
             (least.dents / on_line - 1.0).abs() < 1e-3,
             "{least:?} against {on_line}"
+        );
+    }
+
+    /// An elliptic dent (a bar's or a groove's) across a track at 30 degrees: each
+    /// point's profile is the chord of the line through it along the track, found here
+    /// by solving the line-ellipse quadratic; band-averaged, the chords still sum to the
+    /// ellipse's area.
+    #[test]
+    fn an_elliptic_dent_gives_its_chords_along_the_track() {
+        let (rx, ry) = (1e-3, 0.4e-3);
+        let e = |t| Dent {
+            x: 0.0,
+            y: 0.0,
+            rx,
+            ry,
+            t,
+        };
+        let ds = [e(0.0), e(1.0)];
+        let dir = 30f64.to_radians();
+        let tr = Traverse {
+            speed: 1.0,
+            direction: dir,
+            pitch: None,
+        };
+        // Rate 1 /s and speed 1 m/s: the profile is the chord itself, m.
+        let t = Track::new(&ds, tr, 1e-6, 0.0).unwrap();
+        let (s, c) = dir.sin_cos();
+        let mut checked = 0;
+        for p in &t.pass {
+            // Points w (-s, c) + tau (c, s) with (x/rx)^2 + (y/ry)^2 = 1.
+            let (px, py) = (-p.offset * s, p.offset * c);
+            let a = (c / rx).powi(2) + (s / ry).powi(2);
+            let b = 2.0 * (px * c / (rx * rx) + py * s / (ry * ry));
+            let k = (px / rx).powi(2) + (py / ry).powi(2) - 1.0;
+            let disc = b * b - 4.0 * a * k;
+            let chord = if disc > 0.0 { disc.sqrt() / a } else { 0.0 };
+            assert!((p.dents - chord).abs() < 1e-12, "{p:?} against {chord}");
+            checked += (chord > 0.0) as usize;
+        }
+        assert!(checked > 500, "{checked}");
+        let area: f64 = Track::new(&ds, tr, 1e-6, 0.3e-3)
+            .unwrap()
+            .pass
+            .iter()
+            .map(|p| p.dents)
+            .sum::<f64>()
+            * 1e-6;
+        let expect = std::f64::consts::PI * rx * ry;
+        assert!(
+            (area / expect - 1.0).abs() < 1e-6,
+            "{area} against {expect}"
         );
     }
 }
