@@ -537,4 +537,46 @@ fn coverage_in_a_groove_is_given_per_zone() {
     assert!((covered / cells - total).abs() < 1e-12, "{covered} {total}");
     // The jet aims at the root: the fillets are dented.
     assert!(zones[1]["coverage"].as_f64().unwrap() > 0.0);
+    // A nozzle moving along the groove keeps its pattern; one moving across does not,
+    // and is refused before anything is written.
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--out",
+            "along",
+            "--no-h5",
+            "--traverse-mm-s",
+            "100",
+            "--traverse-deg",
+            "90",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(tmp.path().join("along/traverse.csv").exists());
+    let o = peenflow(
+        &[
+            "coverage",
+            "run/impacts.h5",
+            "--out",
+            "across",
+            "--no-h5",
+            "--traverse-mm-s",
+            "100",
+            "--traverse-deg",
+            "30",
+        ],
+        tmp.path(),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--traverse-deg 30: in a groove the nozzle can only move along it"),
+        "{err}"
+    );
+    let left = std::fs::read_dir(tmp.path().join("across"))
+        .map(|d| d.count())
+        .unwrap_or(0);
+    assert_eq!(left, 0, "nothing written");
 }

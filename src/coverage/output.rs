@@ -145,6 +145,20 @@ pub enum CoverageError {
 /// Runs the study.
 pub fn run(req: &Request) -> Result<Report, CoverageError> {
     let (file, scene): (h5::ImpactFile, Scene) = crate::export::read_impact_file(&req.impacts)?;
+    // In a groove only a nozzle moving along it keeps the still nozzle's pattern: moving
+    // across, it meets the flanks and fillets at other angles and distances.
+    if let (Some(tr), crate::contact::specimen::SpecimenShape::Groove(_)) =
+        (req.traverse, &scene.specimen_shape)
+        && tr.direction.cos().abs() > 1e-9
+    {
+        return Err(CoverageError::Empty {
+            path: req.impacts.display().to_string(),
+            message: format!(
+                "--traverse-deg {}: in a groove the nozzle can only move along it (--traverse-deg 90 or -90, the unrolled surface's y): moving across, it meets the flanks and fillets at other angles, so the still nozzle's pattern does not carry over",
+                tr.direction_deg()
+            ),
+        });
+    }
     let target = req
         .target
         .clone()
