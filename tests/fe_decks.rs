@@ -1104,6 +1104,51 @@ fn decks_of_a_groove_lay_the_target_under_its_surface() {
     deck::build(&imp[1..2], &bar_settings(&sc)).unwrap();
 }
 
+/// A groove moved off the jet axis' foot (`offset_mm`): the decks lay the block under
+/// its moved surface and name where its middle is in model coordinates.
+#[test]
+fn decks_of_a_moved_groove_follow_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let shift = 0.9;
+    let targets: Vec<Aim> = groove_targets()
+        .into_iter()
+        .map(|((ps, pz), n)| ((ps + shift, pz), n))
+        .collect();
+    let text = groove_scene(&targets).replace(
+        "edge_radius_mm = 0.6\n",
+        &format!("edge_radius_mm = 0.6\noffset_mm = {shift:?}\n"),
+    );
+    let (impacts, scene) = run_bar(tmp.path(), &text);
+    assert_eq!(impacts.len(), 2);
+    let model = deck::build(&impacts, &bar_settings(&scene)).unwrap();
+    let shape = scene.specimen_shape;
+    let peenflow::contact::specimen::SpecimenShape::Groove(g) = &shape else {
+        panic!("not a groove")
+    };
+    let (o, _) = g.point_at(model.origin[0] * 1e-3, model.origin[1] * 1e-3);
+    let head: Vec<f64> = model
+        .geometry
+        .trim_start_matches("groove along y, bottom middle at x,z = ")
+        .split(", ")
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(
+        // (The header prints 6 significant digits.)
+        (head[0] - (shift - o.x * 1e3)).abs() < 1e-5 && (head[1] + o.z * 1e3).abs() < 1e-5,
+        "{} against {}, {}",
+        model.geometry,
+        shift - o.x * 1e3,
+        -o.z * 1e3
+    );
+    for f in &model.target.top {
+        for id in model.mesh.face_nodes(*f) {
+            let n = &model.nodes[(id - 1) as usize];
+            let p = peenflow::Vec3::new(n.x * 1e-3 + o.x, n.y * 1e-3 + o.y, n.z * 1e-3 + o.z);
+            assert!(shape.distance(&p).abs() < 1e-12, "top node {id}");
+        }
+    }
+}
+
 /// Two shots thrown along the normals of a groove's fillet and flank, run in ccx: each
 /// rebounds along its own surface normal (sideways below 3 % of the rebound; measured
 /// 1.75 % in the fillet's middle and 0.43 % on the flank), with the physics of the

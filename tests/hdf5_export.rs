@@ -74,7 +74,7 @@ fn runs_onto_a_bar_and_a_groove_describe_them_to_h5py() {
     for specimen in [
         "shape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n",
         "shape = \"groove\"\nradius_mm = 1.2\nbottom_mm = 0.6\nflank_deg = 20.0\n\
-         depth_mm = 5.0\nedge_radius_mm = 0.6\npitch_mm = 9.0\naxis_deg = 60.0\n",
+         depth_mm = 5.0\nedge_radius_mm = 0.6\npitch_mm = 9.0\naxis_deg = 60.0\noffset_mm = 1.7\n",
     ] {
         let tmp = tempfile::tempdir().unwrap();
         std::fs::write(

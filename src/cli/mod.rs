@@ -163,13 +163,13 @@ fn run_scene(a: RunArgs) -> Result<()> {
         rayon::current_num_threads(),
     );
     writer.finish(&scene, out.end_time, &summary)?;
-    // The jet axis meets the specimen at the origin: marked when the jet acts on shots.
+    // Where the jet axis meets the specimen: marked when the jet acts on shots.
     let jet = effects.drag || effects.lateral_force;
-    figure.write(
-        &a.out.join("impacts"),
-        &scene.title,
-        jet.then_some((0.0, 0.0)),
-    )?;
+    let foot = scene
+        .specimen_shape
+        .axis_foot(&scene.nozzle.exit(), &scene.nozzle.axis())
+        .map(|(x, y)| (x * 1e3, y * 1e3));
+    figure.write(&a.out.join("impacts"), &scene.title, foot.filter(|_| jet))?;
     if !out.snapshots.is_empty() {
         output::write_snapshots(&a.out.join("snapshots"), &out.snapshots)?;
     }

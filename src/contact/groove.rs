@@ -84,6 +84,9 @@ pub struct GrooveSize {
     pub pitch: Option<f64>,
     /// Direction of the groove's axis, rad from +x in the horizontal plane.
     pub axis_angle: f64,
+    /// Where the groove's middle lies across from the jet axis' foot (the origin),
+    /// towards `axis x +z`, m (0: under the jet).
+    pub offset: f64,
 }
 
 /// Why a groove's dimensions do not make one.
@@ -222,6 +225,12 @@ impl Groove {
         2.0 * self.ce.0
     }
 
+    /// The cross-section's `s` of `pos`: across, from the groove's middle.
+    #[inline]
+    fn s_of(&self, pos: &Vec3) -> f64 {
+        pos.dot(&self.across) - self.size.offset
+    }
+
     /// `s` folded into the period around the nearest groove's middle: `(period index,
     /// s from that middle)`.
     #[inline]
@@ -297,7 +306,7 @@ impl Groove {
     /// The nearest surface point's distance, outward normal and zone for `pos`.
     #[inline]
     pub fn foot(&self, pos: &Vec3) -> Foot {
-        let (_, s) = self.fold(pos.dot(&self.across));
+        let (_, s) = self.fold(self.s_of(pos));
         let h = self.half_foot(s.abs(), pos.z);
         let sign = if s < 0.0 { -1.0 } else { 1.0 };
         Foot {
@@ -310,7 +319,7 @@ impl Groove {
     /// Distance (m) of `pos` from the surface, positive in the air.
     #[inline]
     pub fn distance(&self, pos: &Vec3) -> f64 {
-        let (_, s) = self.fold(pos.dot(&self.across));
+        let (_, s) = self.fold(self.s_of(pos));
         self.half_foot(s.abs(), pos.z).distance
     }
 
@@ -378,7 +387,7 @@ impl Groove {
     /// `across`, over every groove and land on the way with a pitch) and the distance
     /// along the axis.
     pub fn unrolled(&self, pos: &Vec3) -> (f64, f64) {
-        let (k, s) = self.fold(pos.dot(&self.across));
+        let (k, s) = self.fold(self.s_of(pos));
         let u = self.half_arc(s.abs(), pos.z);
         let u = if s < 0.0 { -u } else { u };
         let period = if k == 0.0 { 0.0 } else { 2.0 * k * self.u_half };
@@ -440,7 +449,7 @@ impl Groove {
         let (k, ul) = self.fold_arc(u);
         let ((s, z), (ns, nz), _) = self.half_at(ul.abs());
         let sign = if ul < 0.0 { -1.0 } else { 1.0 };
-        let s = sign * s + k * self.size.pitch.unwrap_or(0.0);
+        let s = sign * s + k * self.size.pitch.unwrap_or(0.0) + self.size.offset;
         (
             self.across * s + self.axis * w + Vec3::z() * z,
             self.across * (sign * ns) + Vec3::z() * nz,
@@ -454,7 +463,7 @@ impl Groove {
     /// faster than their rate now; the fillets' (concave) close at most at the speed
     /// across the axis. With a pitch the neighbouring grooves count too.
     pub fn time_to_touch(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> f64 {
-        let (_, s) = self.fold(pos.dot(&self.across));
+        let (_, s) = self.fold(self.s_of(pos));
         let (z, vs, vz) = (pos.z, vel.dot(&self.across), vel.z);
         let speed = vs.hypot(vz);
         let (rf, rho, depth) = (self.size.radius, self.size.edge_radius, self.size.depth);
@@ -630,6 +639,7 @@ mod tests {
             edge_radius: 0.5e-3,
             pitch: Some(std::f64::consts::PI * 3e-3),
             axis_angle: 90f64.to_radians(),
+            offset: 0.0,
         })
         .unwrap()
     }
@@ -701,6 +711,13 @@ mod tests {
                 edge_radius: 0.3e-3,
                 pitch: None,
                 axis_angle: 0.0,
+                offset: 0.0,
+            })
+            .unwrap(),
+            // The rack moved 2.3 mm across, off the jet axis' foot.
+            Groove::new(GrooveSize {
+                offset: 2.3e-3,
+                ..*rack().size()
             })
             .unwrap(),
         ] {

@@ -170,6 +170,33 @@ impl SpecimenShape {
         }
     }
 
+    /// Where the jet axis (through `exit`, along the unit vector `axis`) first meets the
+    /// surface, on the unrolled surface (m): the origin on the plate and on the bar's
+    /// crest; in a groove moved off the jet (`offset_mm`), found by marching along the
+    /// axis by the distance to the surface (a lower bound on the way to it). `None` if
+    /// the axis misses the surface within 1,000 times the exit's distance.
+    pub fn axis_foot(&self, exit: &Vec3, axis: &Vec3) -> Option<(f64, f64)> {
+        let SpecimenShape::Groove(g) = self else {
+            return Some((0.0, 0.0));
+        };
+        if g.size().offset == 0.0 {
+            return Some((0.0, 0.0));
+        }
+        let (mut t, reach) = (0.0, 1e3 * exit.norm());
+        for _ in 0..10_000 {
+            let p = exit + axis * t;
+            let d = g.distance(&p);
+            if d <= 1e-12 {
+                return Some(g.unrolled(&p));
+            }
+            t += d;
+            if t > reach {
+                return None;
+            }
+        }
+        None
+    }
+
     /// Names of the unrolled coordinates ([`SpecimenShape::unrolled`]), for axes.
     pub fn unrolled_names(&self) -> (&'static str, &'static str) {
         match self {

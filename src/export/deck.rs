@@ -1089,7 +1089,7 @@ impl Bend {
             ),
             Bend::Groove(g) => format!(
                 "groove along y, bottom middle at x,z = {}, {}",
-                n(-g.origin.0),
+                n(g.groove.size().offset - g.origin.0),
                 n(-g.origin.1)
             ),
         }

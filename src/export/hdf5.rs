@@ -619,6 +619,8 @@ impl Tables {
                     // 0: one groove, its lands running on for ever.
                     ("specimen_pitch_m", z.pitch.unwrap_or(0.0)),
                     ("specimen_axis_deg", z.axis_angle.to_degrees()),
+                    // The groove's middle, across from the jet axis' foot.
+                    ("specimen_offset_m", z.offset),
                 ] {
                     file.set_attr_numeric(name, &value).map_err(&e)?;
                 }

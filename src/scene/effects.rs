@@ -247,7 +247,7 @@ impl Scene {
             let n = super::validate::num;
             decisions[3].reason += &format!(
                 "; a groove {} mm deep, root fillets of {} mm, a {} mm bottom, flanks {} degrees \
-                 from the vertical, edges of {} mm, its axis at {} degrees from +x{}",
+                 from the vertical, edges of {} mm, its axis at {} degrees from +x{}{}",
                 n(z.depth * 1e3),
                 n(z.radius * 1e3),
                 n(z.bottom * 1e3),
@@ -256,7 +256,15 @@ impl Scene {
                 n(z.axis_angle.to_degrees()),
                 z.pitch
                     .map(|p| format!(", repeated every {} mm", n(p * 1e3)))
-                    .unwrap_or_default()
+                    .unwrap_or_default(),
+                if z.offset != 0.0 {
+                    format!(
+                        ", its middle {} mm across from the jet axis' foot",
+                        n(z.offset * 1e3)
+                    )
+                } else {
+                    String::new()
+                }
             );
         }
         Effects {

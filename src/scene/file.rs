@@ -382,6 +382,9 @@ pub struct SpecimenFile {
     pub edge_radius_mm: Option<f64>,
     /// Distance between neighbouring grooves, mm (a rack; default: one groove).
     pub pitch_mm: Option<f64>,
+    /// Where the groove's middle lies across from the jet axis' foot, mm (default 0:
+    /// the jet aims at the middle of the bottom).
+    pub offset_mm: Option<f64>,
 }
 
 impl Default for SpecimenFile {
@@ -396,6 +399,7 @@ impl Default for SpecimenFile {
             depth_mm: None,
             edge_radius_mm: None,
             pitch_mm: None,
+            offset_mm: None,
         }
     }
 }

@@ -160,6 +160,13 @@ fn groove(
         B::Ex(180.0),
         "degrees from +x",
     )?;
+    let offset = c.range(
+        "specimen.offset_mm",
+        sf.offset_mm.unwrap_or(0.0),
+        B::In(-1e4),
+        B::In(1e4),
+        "mm across the groove from the jet axis' foot",
+    )?;
     let size = GrooveSize {
         radius: radius * 1e-3,
         bottom: bottom * 1e-3,
@@ -168,6 +175,7 @@ fn groove(
         edge_radius: edge_radius * 1e-3,
         pitch,
         axis_angle: axis.to_radians(),
+        offset: offset * 1e-3,
     };
     match Groove::new(size) {
         Ok(g) => Ok(crate::contact::specimen::SpecimenShape::Groove(
@@ -672,6 +680,7 @@ impl SceneFile {
             ("specimen.depth_mm", sf.depth_mm.is_some()),
             ("specimen.edge_radius_mm", sf.edge_radius_mm.is_some()),
             ("specimen.pitch_mm", sf.pitch_mm.is_some()),
+            ("specimen.offset_mm", sf.offset_mm.is_some()),
         ];
         let specimen_shape = match sf.shape.as_str() {
             "plane" => {

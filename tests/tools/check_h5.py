@@ -25,7 +25,8 @@ with h5py.File(h5_path, "r") as f:
         import numpy as np
 
         a = {k: float(f.attrs["specimen_" + k]) for k in
-             ("radius_m", "bottom_m", "flank_deg", "depth_m", "edge_radius_m", "pitch_m", "axis_deg")}
+             ("radius_m", "bottom_m", "flank_deg", "depth_m", "edge_radius_m", "pitch_m", "axis_deg",
+              "offset_m")}
         rf, hb, rho, depth = a["radius_m"], 0.5 * a["bottom_m"], a["edge_radius_m"], a["depth_m"]
         al = math.radians(a["flank_deg"])
         sa, ca = math.sin(al), math.cos(al)
@@ -57,7 +58,7 @@ with h5py.File(h5_path, "r") as f:
         phi = math.radians(a["axis_deg"])
         across = (math.sin(phi), -math.cos(phi))
         for k, (x, y, z) in enumerate(zip(f["impacts/x_m"][()], f["impacts/y_m"][()], f["impacts/z_m"][()])):
-            q = np.array([x * across[0] + y * across[1], z])
+            q = np.array([x * across[0] + y * across[1] - a["offset_m"], z])
             if pitch > 0:
                 q[0] -= round(q[0] / pitch) * pitch
             t = np.clip(((q - p0) * seg).sum(axis=1) / seg_len2, 0, 1)
