@@ -37,7 +37,8 @@ of the others): a random shot-specimen restitution curve (`shot_specimen_curve`,
 others but --events): onto a cylinder of random radius (1.6 to 40 mm) and axis instead
 of the plate; the check for shots ending inside the specimen then takes its surface.
 With --groove (since session 50; the same): into a groove of random fillet, bottom,
-flanks, edges and depth, a rack of them half the time; the check takes its profile.
+flanks, edges and depth, a rack of them half the time, moved off the jet half the time
+(`offset_mm`, since session 51); the check takes its profile.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -101,16 +102,20 @@ def with_groove(r, text):
     """`text` into a grooved specimen (since session 50): root fillet 2 to 10 mm, bottom
     0 to 5 mm, flanks 0 to 45 degrees, edges 1.2 to 5 mm, 0.5 to 15 mm deeper than the
     fillet and the edge need, along a random horizontal axis; half the time a rack of
-    them, 0 to 10 mm of land between."""
+    them, 0 to 10 mm of land between; half the time moved off the jet (`offset_mm`)."""
     rf, hb, fl, rho = r.uniform(2, 10), r.uniform(0, 5), r.uniform(0, 45), r.uniform(1.2, 5)
     sa, ca = math.sin(math.radians(fl)), math.cos(math.radians(fl))
     depth = (rf + rho) * (1 - sa) + r.uniform(0.5, 15)
     lines = (f'[specimen]\nshape = "groove"\nradius_mm = {rf:.3f}\nbottom_mm = {hb:.3f}\n'
              f"flank_deg = {fl:.2f}\ndepth_mm = {depth:.3f}\nedge_radius_mm = {rho:.3f}\n"
              f"axis_deg = {r.uniform(0, 179.9):.2f}\n")
+    top = groove_half(rf * 1e-3, hb * 1e-3, fl, depth * 1e-3, rho * 1e-3)[-1][0] * 2e3
     if r.random() < 0.5:
-        top = groove_half(rf * 1e-3, hb * 1e-3, fl, depth * 1e-3, rho * 1e-3)[-1][0] * 2e3
         lines += f"pitch_mm = {top + r.uniform(0.01, 10):.3f}\n"
+    # Half the time the groove is moved off the jet (since session 51), by up to its
+    # half-width and 2 mm more.
+    if r.random() < 0.5:
+        lines += f"offset_mm = {r.uniform(-0.5 * top - 2, 0.5 * top + 2):.3f}\n"
     # A box of shots (--ballistic) is raised above the lands, as the loader wants it.
     def lift(m):
         return f"{m.group(1)}{float(m.group(2)) + depth:.3f}]"
@@ -140,12 +145,12 @@ def groove_side(text, x, y, z):
     text = text[text.index("[specimen]"):]
 
     def key(k):
-        m = re.search(rf"(?m)^{k} = ([0-9.]+)$", text)
+        m = re.search(rf"(?m)^{k} = (-?[0-9.]+)$", text)
         return float(m.group(1)) if m else None
     rf, depth, rho = key("radius_mm") * 1e-3, key("depth_mm") * 1e-3, key("edge_radius_mm") * 1e-3
     half = groove_half(rf, (key("bottom_mm") or 0) * 1e-3, key("flank_deg") or 0, depth, rho)
     a = math.radians(key("axis_deg"))
-    s = x * math.sin(a) - y * math.cos(a)
+    s = x * math.sin(a) - y * math.cos(a) - (key("offset_mm") or 0.0) * 1e-3
     pitch = key("pitch_mm")
     if pitch:
         s -= round(s / (pitch * 1e-3)) * pitch * 1e-3
