@@ -537,6 +537,31 @@ fn coverage_in_a_groove_is_given_per_zone() {
     assert!((covered / cells - total).abs() < 1e-12, "{covered} {total}");
     // The jet aims at the root: the fillets are dented.
     assert!(zones[1]["coverage"].as_f64().unwrap() > 0.0);
+    // The dents are ellipses: longer across in the fillets, shorter on the edges; the
+    // impact file's /coverage says the same as coverage.json.
+    let aspect: Vec<f64> = json["dent_aspect_across_along"]
+        .as_array()
+        .expect("dent_aspect_across_along")
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(aspect[0] < 1.0 && aspect[2] > 1.0, "{aspect:?}");
+    let py = Command::new("python3").args(["-c", "import h5py"]).output();
+    if py.map(|o| o.status.success()).unwrap_or(false) {
+        let o = Command::new("python3")
+            .args([
+                "-c",
+                "import h5py,sys,json; a=list(h5py.File(sys.argv[1])['coverage'].attrs['dent_aspect_across_along']); \
+                 j=json.load(open(sys.argv[2]))['dent_aspect_across_along']; assert a == j, (a, j); print('ok')",
+            ])
+            .arg(tmp.path().join("run/impacts.h5"))
+            .arg(tmp.path().join("cov/coverage.json"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    } else {
+        assert!(std::env::var_os("CI").is_none(), "h5py missing in CI");
+    }
     // A nozzle moving along the groove keeps its pattern; one moving across does not,
     // and is refused before anything is written.
     let o = peenflow(

@@ -361,7 +361,14 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
     )?;
     written.push(stem.with_extension("png"));
     if req.update_h5 {
-        add_to_h5(&req.impacts, &cov, track.as_ref(), &model, &target.name)?;
+        add_to_h5(
+            &req.impacts,
+            &cov,
+            track.as_ref(),
+            &model,
+            &target.name,
+            dent_aspect,
+        )?;
         written.push(req.impacts.clone());
     }
     Ok(Report {
@@ -489,6 +496,7 @@ fn add_to_h5(
     track: Option<&Track>,
     model: &DentModel,
     target: &str,
+    dent_aspect: Option<[f64; 3]>,
 ) -> Result<(), H5Error> {
     let err = |m: String| H5Error::Write {
         path: path.display().to_string(),
@@ -515,6 +523,10 @@ fn add_to_h5(
         g.set_attr_numeric("final_coverage", &cov.final_coverage)
             .map_err(&e)?;
         g.set_attr_numeric("first_impact_s", &cov.t0).map_err(&e)?;
+        if let Some(a) = dent_aspect {
+            g.set_attr_array_numeric("dent_aspect_across_along", &a)
+                .map_err(&e)?;
+        }
         if let Some(f) = cov.fit {
             g.set_attr_numeric("avrami_k", &f.k).map_err(&e)?;
             g.set_attr_numeric("avrami_n", &f.n).map_err(&e)?;
