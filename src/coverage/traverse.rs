@@ -25,7 +25,7 @@
 //! steady stream (the pattern does not change over the run), the part is flat (or a
 //! bar or groove, on its unrolled surface), and the dents are those of
 //! [`super::dents_on`] (rebound hits included). An elliptic dent (a curved part's) is a
-//! disc stretched along the track ([`Across`]).
+//! disc stretched along the track (`Across` below).
 
 use super::Dent;
 
