@@ -174,6 +174,7 @@ fn draw_lines<DB: DrawingBackend>(
     (xl, yl): (&str, &str),
     series: &[Series],
     log: bool,
+    spans: &[(f64, f64, &str)],
 ) -> DResult
 where
     DB::ErrorType: 'static,
@@ -253,12 +254,39 @@ where
             .draw()?;
     } else {
         let pad = 0.05 * (y1 - y0).abs().max(1e-12);
-        let mut c = chart.build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
+        let (ylo, yhi) = (
+            y0 - pad,
+            y1 + pad + if spans.is_empty() { 0.0 } else { 2.0 * pad },
+        );
+        let mut c = chart.build_cartesian_2d(x0..x1, ylo..yhi)?;
         c.configure_mesh()
             .x_desc(xl)
             .y_desc(yl)
             .label_style(("sans-serif", 15))
             .draw()?;
+        for &(a, b, name) in spans {
+            if a > x0 {
+                c.draw_series(DashedLineSeries::new(
+                    [(a, ylo), (a, yhi)],
+                    6,
+                    4,
+                    BLACK.mix(0.6).stroke_width(1),
+                ))?;
+            }
+            let width = (b.min(x1) - a.max(x0)) / (x1 - x0) * 780.0;
+            if width > 7.5 * name.len() as f64 {
+                c.draw_series(std::iter::once(Text::new(
+                    name.to_string(),
+                    (0.5 * (a.max(x0) + b.min(x1)), yhi - 0.01 * (yhi - ylo)),
+                    ("sans-serif", 13).into_font().color(&BLACK).pos(
+                        plotters::style::text_anchor::Pos::new(
+                            plotters::style::text_anchor::HPos::Center,
+                            plotters::style::text_anchor::VPos::Top,
+                        ),
+                    ),
+                )))?;
+            }
+        }
         for (k, s) in series.iter().enumerate() {
             let color = COLORS[k % COLORS.len()];
             c.draw_series(LineSeries::new(s.points.clone(), color.stroke_width(2)))?
@@ -436,7 +464,27 @@ pub fn lines(
     series: &[Series],
     log: bool,
 ) -> Result<(), PlotError> {
-    draw_both!(stem, (900, 600), draw_lines(title, labels, series, log))
+    draw_both!(
+        stem,
+        (900, 600),
+        draw_lines(title, labels, series, log, &[])
+    )
+}
+
+/// [`lines`] on linear axes with spans of x `(from, to, name)` marked (a groove's zones):
+/// a dashed line where each starts inside the frame, the name along the top.
+pub fn lines_marked(
+    stem: &Path,
+    title: &str,
+    labels: (&str, &str),
+    series: &[Series],
+    spans: &[(f64, f64, &str)],
+) -> Result<(), PlotError> {
+    draw_both!(
+        stem,
+        (900, 600),
+        draw_lines(title, labels, series, false, spans)
+    )
 }
 
 /// Writes `stem.png` and `stem.svg`: grouped bars over `categories`.

@@ -45,8 +45,10 @@ pub enum Command {
 /// `peenflow coverage`.
 #[derive(Debug, clap::Args)]
 pub struct CoverageArgs {
-    /// Impact file written by `peenflow run` (impacts.h5).
-    pub impacts: PathBuf,
+    /// Impact file written by `peenflow run` (impacts.h5); with --gear-teeth, the files
+    /// of runs on one rack at several offsets (a sweep's `DIR/*/impacts.h5`).
+    #[arg(required = true, num_args = 1..)]
+    pub impacts: Vec<PathBuf>,
     /// Window on the specimen, mm: x0,y0,x1,y1 (default: a square around the median
     /// impact point, half side the median distance of the impacts from it). On a
     /// cylindrical specimen, on its unrolled surface: the arc length around the bar from
@@ -93,6 +95,15 @@ pub struct CoverageArgs {
     /// raster.csv).
     #[arg(long, allow_negative_numbers = true)]
     pub pitch_mm: Option<f64>,
+    /// A turning gear of this many teeth, the nozzle moving along its axis at
+    /// --traverse-mm-s: coverage across a tooth space from still-nozzle runs on a rack
+    /// at offsets over one pitch (gear.csv, gear.json, gear.png; docs/coverage.md).
+    #[arg(long, allow_negative_numbers = true)]
+    pub gear_teeth: Option<i64>,
+    /// The turning gear's speed, rev/min (with --gear-teeth): checks the helical bands
+    /// a large feed per revolution leaves along the axis.
+    #[arg(long, allow_negative_numbers = true)]
+    pub gear_rpm: Option<f64>,
 }
 
 /// `peenflow sweep`.

@@ -14,7 +14,7 @@ pub use args::{
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Runs a parsed command line.
@@ -96,7 +96,30 @@ fn init(a: InitArgs) -> Result<()> {
         path.display(),
         path.display()
     );
+    // A sweep built on another example needs that one next to it.
+    if let Some(base) = example_base(text) {
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let to = dir.join(format!("{}.toml", base.name));
+        if to.exists() {
+            if std::fs::read(&to).ok().as_deref() != Some(base.text.as_bytes()) {
+                eprintln!(
+                    "note: {} exists and differs from the example it names; the sweep runs on it as it is",
+                    to.display()
+                );
+            }
+        } else {
+            output::write_atomic(&to, base.text.as_bytes())?;
+            eprintln!("wrote {} (its base scene: {})", to.display(), base.about);
+        }
+    }
     Ok(())
+}
+
+/// The embedded example a sweep file's `base = "NAME.toml"` names, if any.
+fn example_base(text: &str) -> Option<&'static crate::scene::examples::Example> {
+    let table: toml::Table = toml::from_str(text).ok()?;
+    let base = table.get("base")?.as_str()?;
+    crate::scene::examples::find(base.strip_suffix(".toml")?)
 }
 
 fn run_scene(a: RunArgs) -> Result<()> {
@@ -587,7 +610,12 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         })?),
         None => None,
     };
-    let traverse = traverse_of(&a)?;
+    let gear = gear_of(&a)?;
+    let traverse = if gear.is_some() {
+        None
+    } else {
+        traverse_of(&a)?
+    };
     let dent = match &a.dent_curve {
         Some(items) => {
             let shown = items.join(",");
@@ -610,12 +638,34 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         }
         None => None,
     };
-    if !a.impacts.is_file() {
-        bail!("{}: no such impact file", a.impacts.display());
+    for f in &a.impacts {
+        if !f.is_file() {
+            bail!("{}: no such impact file", f.display());
+        }
     }
+    if let Some(turning) = gear {
+        output::prepare_dir(&a.out, a.force)?;
+        let r = crate::coverage::output::run_gear(&crate::coverage::output::GearRequest {
+            impacts: a.impacts.clone(),
+            target,
+            dent,
+            out: a.out.clone(),
+            turning,
+            rpm: a.gear_rpm,
+        })?;
+        print_gear(&r);
+        return Ok(());
+    }
+    let impacts = match a.impacts.as_slice() {
+        [one] => one.clone(),
+        many => bail!(
+            "{} impact files given: several only with --gear-teeth (a turning gear from runs at several offsets of one rack); otherwise give one",
+            many.len()
+        ),
+    };
     output::prepare_dir(&a.out, a.force)?;
     let r = crate::coverage::output::run(&crate::coverage::output::Request {
-        impacts: a.impacts.clone(),
+        impacts,
         window,
         cell: a.cell_um.map(|c| c * 1e-6),
         target,
@@ -707,6 +757,162 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         println!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// The turning gear asked with `--gear-teeth` (and the nozzle's speed along its axis,
+/// `--traverse-mm-s`); the options that do not apply to it are refused.
+fn gear_of(a: &CoverageArgs) -> Result<Option<crate::coverage::gear::Turning>> {
+    let Some(z) = a.gear_teeth else {
+        if let Some(r) = a.gear_rpm {
+            bail!("--gear-rpm {r}: give the gear's teeth too (--gear-teeth)");
+        }
+        return Ok(None);
+    };
+    if let Some(r) = a.gear_rpm
+        && !(r > 0.0 && r <= 1e5)
+    {
+        bail!("--gear-rpm {r}: allowed (0, 100000] revolutions per minute");
+    }
+    if !(2..=10_000).contains(&z) {
+        bail!("--gear-teeth {z}: allowed 2 to 10000 teeth");
+    }
+    let Some(v) = a.traverse_mm_s else {
+        bail!(
+            "--gear-teeth {z}: give the nozzle's speed along the gear's axis too (--traverse-mm-s)"
+        );
+    };
+    if !(v > 0.0 && v <= 1e5) {
+        bail!("--traverse-mm-s {v}: allowed (0, 100000] mm/s");
+    }
+    let not_here = |flag: &str, why: &str| -> Result<()> {
+        bail!("{flag} does not apply with --gear-teeth: {why}")
+    };
+    if a.traverse_deg.is_some() {
+        not_here(
+            "--traverse-deg",
+            "the nozzle moves along the gear's axis (the teeth pass across it as the gear turns)",
+        )?;
+    }
+    if a.pitch_mm.is_some() {
+        not_here(
+            "--pitch-mm",
+            "one pass along the gear covers every tooth space; for more passes multiply the dents per point",
+        )?;
+    }
+    if a.window.is_some() || a.cell_um.is_some() {
+        not_here(
+            if a.window.is_some() {
+                "--window"
+            } else {
+                "--cell-um"
+            },
+            "the profile spans one period of the rack, with points a tenth of a median dent apart",
+        )?;
+    }
+    if a.seed.is_some() {
+        not_here("--seed", "every file's seeds are pooled")?;
+    }
+    Ok(Some(crate::coverage::gear::Turning {
+        teeth: z as u32,
+        speed: v * 1e-3,
+    }))
+}
+
+/// What a turning gear gives, as `peenflow coverage --gear-teeth` prints it.
+fn print_gear(r: &crate::coverage::output::GearReport) {
+    use crate::coverage::traverse::{FULL, coverage};
+    let g = &r.profile;
+    let v = g.turning.speed * 1e3;
+    println!("target {}: {}", r.target, r.model.describe());
+    println!(
+        "turning gear, {} teeth (rack pitch {:.3} mm, pitch radius {:.1} mm), nozzle moving along its axis at {v} mm/s",
+        g.turning.teeth,
+        g.pitch * 1e3,
+        f64::from(g.turning.teeth) * g.pitch / std::f64::consts::TAU * 1e3
+    );
+    println!(
+        "{} dents of the still nozzle at {} offsets over one pitch (median diameter {:.3} mm):",
+        r.dents,
+        g.offsets.len(),
+        r.median_dent_diameter * 1e3
+    );
+    for s in &g.offsets {
+        println!(
+            "  offset {:>8.3} mm: share {:.3} of the pitch, {} dents over {} seed{}, {:.0} per s",
+            s.offset_m * 1e3,
+            s.weight,
+            s.dents,
+            s.runs,
+            if s.runs == 1 { "" } else { "s" },
+            s.dent_rate_per_s
+        );
+    }
+    println!(
+        "one pass along the gear, per zone across a tooth space ({:.2} mm of arc per pitch; +- is twice the standard error):",
+        g.period * 1e3
+    );
+    println!(
+        "  zone    arc, mm   dents per point: least      mean   coverage: least    mean   full coverage at, mm/s"
+    );
+    for z in &r.zones {
+        println!(
+            "  {:<7} {:>7.2}   {:>9.3} +- {:<6.3} {:>7.3}   {:>14.1} % {:>6.1} %   {:>10.4}",
+            z.zone,
+            z.arc_m * 1e3,
+            z.least_dents,
+            2.0 * z.least_standard_error,
+            z.mean_dents,
+            100.0 * z.least_coverage,
+            100.0 * z.mean_coverage,
+            z.full_coverage_speed_m_s * 1e3
+        );
+    }
+    let least = g.least();
+    if let Some(b) = &r.banding {
+        let show = |w: crate::coverage::output::Bandwidth| {
+            if w.resolved() {
+                format!("{:.1} %", 100.0 * w.rms)
+            } else {
+                format!("under {:.1} % (the runs' noise)", 100.0 * w.noise)
+            }
+        };
+        let (zone, worst) = b.worst();
+        println!(
+            "at {} rev/min the nozzle moves {:.3} mm per revolution: dents per point vary along the axis in helical bands of rms amplitude (over their mean) {} over the profile, {} on the {zone}s{}",
+            b.rpm,
+            b.feed_per_revolution_m * 1e3,
+            show(b.rms),
+            show(worst),
+            if worst.resolved() && worst.rms > 0.1 {
+                "; turn faster or move slower for an even finish (the numbers above are the means along the axis)"
+            } else {
+                ""
+            }
+        );
+    }
+    match g.full_coverage() {
+        Some((speed, passes)) => println!(
+            "full coverage (98 %, {FULL:.2} dents per point) everywhere: at most {:.4} mm/s in one pass, or {passes} pass{} at {v} mm/s (least covered: {} at {:.2} mm, {:.1} % after one pass)",
+            speed * 1e3,
+            if passes == 1 { "" } else { "es" },
+            r.least_zone,
+            least.offset * 1e3,
+            100.0 * coverage(least.dents)
+        ),
+        None => println!(
+            "a point of the profile gets no dent ({} at {:.2} mm): no speed covers it",
+            r.least_zone,
+            least.offset * 1e3
+        ),
+    }
+    if !r.steady_feed {
+        println!(
+            "note: a run's feed is not a steady stream; the gear's coverage assumes one (each run's dents spread evenly over its span)"
+        );
+    }
+    for p in &r.written {
+        println!("wrote {}", p.display());
+    }
 }
 
 /// The moving nozzle asked with `--traverse-mm-s`, `--traverse-deg`, `--pitch-mm`.

@@ -615,6 +615,12 @@ impl Groove {
         out
     }
 
+    /// The arc length of one period of the profile across a rack (a groove and a land,
+    /// middle to middle: what [`Groove::unrolled`] adds per pitch); `None` for one groove.
+    pub fn period_arc(&self) -> Option<f64> {
+        self.u_half.is_finite().then_some(2.0 * self.u_half)
+    }
+
     /// Arc length from the middle to where each zone starts on the half cross-section
     /// (bottom, fillet, flank, edge, land), m.
     pub fn zone_starts(&self) -> [f64; 5] {

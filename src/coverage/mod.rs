@@ -11,6 +11,7 @@
 //! time and area (tests/coverage.rs checks both against `1 - exp(-A)`).
 
 pub mod dent;
+pub mod gear;
 pub mod output;
 pub mod traverse;
 

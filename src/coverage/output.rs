@@ -2,6 +2,7 @@
 //! writes coverage.csv, coverage.json, the map and the curve (PNG + SVG), and adds a
 //! `/coverage` group to the impact file (rewritten atomically).
 
+use super::gear::{GearProfile, OffsetRuns, Turning, ZoneDents};
 use super::traverse::{self, Point, Track, Traverse};
 use super::{Coverage, DentModel, compute, default_window, dents_on};
 use crate::export::hdf5::{self as h5, Column, H5Error, werr, write_columns};
@@ -142,6 +143,40 @@ pub enum CoverageError {
     },
 }
 
+/// The target material and the dent model asked (`--target-material`,
+/// `--dent-curve`), or the scene's.
+fn target_and_model(
+    target: Option<&Material>,
+    dent: Option<&DentModel>,
+    scene: &Scene,
+) -> (Material, DentModel) {
+    let target = target
+        .cloned()
+        .unwrap_or_else(|| scene.specimen_material.clone());
+    let model = dent
+        .cloned()
+        .unwrap_or_else(|| DentModel::for_pair(&scene.shot_material, &target));
+    (target, model)
+}
+
+/// The dents of one seed's run in an impact file (all of them where the file does not
+/// name seeds per impact).
+fn seed_dents(
+    file: &h5::ImpactFile,
+    seed: u64,
+    model: &DentModel,
+    scene: &Scene,
+) -> Vec<super::Dent> {
+    let impacts: Vec<crate::record::Impact> = file
+        .impacts
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| file.seeds.get(*i).is_none_or(|s| *s == seed))
+        .map(|(_, imp)| imp.clone())
+        .collect();
+    dents_on(&impacts, model, &scene.specimen_shape)
+}
+
 /// Runs the study.
 pub fn run(req: &Request) -> Result<Report, CoverageError> {
     let (file, scene): (h5::ImpactFile, Scene) = crate::export::read_impact_file(&req.impacts)?;
@@ -159,14 +194,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
             ),
         });
     }
-    let target = req
-        .target
-        .clone()
-        .unwrap_or_else(|| scene.specimen_material.clone());
-    let model = req
-        .dent
-        .clone()
-        .unwrap_or_else(|| DentModel::for_pair(&scene.shot_material, &target));
+    let (target, model) = target_and_model(req.target.as_ref(), req.dent.as_ref(), &scene);
     let shown = req.impacts.display().to_string();
     // A sweep case pools several seeds (independent repeats of the same exposure): the
     // coverage is that of one of them.
@@ -190,17 +218,7 @@ pub fn run(req: &Request) -> Result<Report, CoverageError> {
         }
         None => seeds.first().copied().unwrap_or(file.seed),
     };
-    // The dents of one seed's run.
-    let dents_of = |seed: u64| {
-        let impacts: Vec<crate::record::Impact> = file
-            .impacts
-            .iter()
-            .zip(&file.seeds)
-            .filter(|(_, s)| **s == seed)
-            .map(|(i, _)| i.clone())
-            .collect();
-        dents_on(&impacts, &model, &scene.specimen_shape)
-    };
+    let dents_of = |seed: u64| seed_dents(&file, seed, &model, &scene);
     let ds = dents_of(seed);
     if ds.is_empty() {
         return Err(CoverageError::Empty {
@@ -646,4 +664,389 @@ fn add_track(g: &rust_hdf5::H5Group, t: &Track, path: &Path) -> Result<(), H5Err
         )?;
     }
     Ok(())
+}
+
+/// Everything `peenflow coverage --gear-teeth` was asked.
+#[derive(Debug, Clone)]
+pub struct GearRequest {
+    /// Impact files of still-nozzle runs on one rack at several offsets.
+    pub impacts: Vec<PathBuf>,
+    /// Target material (default: the scenes' specimen).
+    pub target: Option<Material>,
+    /// Measured dents instead of the material's model (`--dent-curve`).
+    pub dent: Option<DentModel>,
+    /// Output directory.
+    pub out: PathBuf,
+    /// The gear and the nozzle's speed along its axis.
+    pub turning: Turning,
+    /// The gear's speed, revolutions per minute (the helical bands' check).
+    pub rpm: Option<f64>,
+}
+
+/// A turning gear's coverage, for printing.
+#[derive(Debug, Clone)]
+pub struct GearReport {
+    /// Dent model used.
+    pub model: DentModel,
+    /// Target material name.
+    pub target: String,
+    /// Dents over all files.
+    pub dents: usize,
+    /// Median dent diameter, m.
+    pub median_dent_diameter: f64,
+    /// The profile over one period.
+    pub profile: GearProfile,
+    /// The profile zone by zone.
+    pub zones: Vec<ZoneDents>,
+    /// The zone of the least covered point.
+    pub least_zone: &'static str,
+    /// Whether every run's feed is a steady stream.
+    pub steady_feed: bool,
+    /// With the gear's speed: the largest helical banding.
+    pub banding: Option<Banding>,
+    /// Files written.
+    pub written: Vec<PathBuf>,
+}
+
+/// The helical bands of a turning gear ([`GearProfile::new`]'s `feed`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Banding {
+    /// The gear's speed, rev/min.
+    pub rpm: f64,
+    /// The nozzle's advance per revolution, m.
+    pub feed_per_revolution_m: f64,
+    /// The rms amplitude of the dents' variation along the axis over their mean, over
+    /// the whole profile.
+    pub rms: Bandwidth,
+    /// The same zone by zone (`bottom`, `fillet`, ...).
+    pub zones: Vec<(&'static str, Bandwidth)>,
+}
+
+/// An rms band amplitude estimated from the runs' dents.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Bandwidth {
+    /// The estimate, `sqrt(max(0, mean power))`.
+    pub rms: f64,
+    /// Twice the mean power's standard error, as an amplitude: the estimate is the
+    /// runs' noise where `rms` is below it.
+    pub noise: f64,
+}
+
+impl Bandwidth {
+    fn of(b: &super::gear::Bands, idx: impl Iterator<Item = usize>, correlated: f64) -> Self {
+        let (p, se) = b.mean_power(idx, correlated);
+        Bandwidth {
+            rms: p.max(0.0).sqrt(),
+            noise: (2.0 * se).sqrt(),
+        }
+    }
+
+    /// Whether the bands stand out of the noise.
+    pub fn resolved(&self) -> bool {
+        self.rms > self.noise
+    }
+}
+
+impl Banding {
+    /// The zone with the strongest bands.
+    pub fn worst(&self) -> (&'static str, Bandwidth) {
+        let none = Bandwidth {
+            rms: 0.0,
+            noise: 0.0,
+        };
+        self.zones
+            .iter()
+            .copied()
+            .fold(("", none), |a, z| if z.1.rms > a.1.rms { z } else { a })
+    }
+}
+
+/// A turning gear's coverage from still-nozzle runs at several offsets of one rack
+/// ([`super::gear`]): gear.csv, gear.json and the profile's figure.
+pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
+    use crate::contact::specimen::SpecimenShape;
+    let empty = |path: &Path, message: String| CoverageError::Empty {
+        path: path.display().to_string(),
+        message,
+    };
+    let mut read = Vec::with_capacity(req.impacts.len());
+    for path in &req.impacts {
+        let (file, scene) = crate::export::read_impact_file(path)?;
+        let groove = match &scene.specimen_shape {
+            SpecimenShape::Groove(g) => **g,
+            other => {
+                return Err(empty(
+                    path,
+                    format!(
+                        "--gear-teeth: the specimen is a {}; a turning gear needs runs on a rack ([specimen] shape = \"groove\" with pitch_mm)",
+                        match other {
+                            SpecimenShape::Plane => "plane",
+                            _ => "cylinder",
+                        }
+                    ),
+                ));
+            }
+        };
+        if groove.size().pitch.is_none() {
+            return Err(empty(
+                path,
+                "--gear-teeth: [specimen] pitch_mm is left out (one groove); a gear's tooth spaces repeat: give the rack's pitch".into(),
+            ));
+        }
+        read.push((path, file, scene, groove));
+    }
+    let (path0, _, scene0, groove0) = &read[0];
+    let unmoved = |g: &crate::contact::groove::Groove| {
+        let mut s = *g.size();
+        s.offset = 0.0;
+        s
+    };
+    for (path, _, scene, groove) in &read[1..] {
+        if unmoved(groove) != unmoved(groove0) {
+            return Err(empty(
+                path,
+                format!(
+                    "--gear-teeth: its groove differs from {}'s in more than offset_mm: the runs must be of one rack, set at different offsets",
+                    path0.display()
+                ),
+            ));
+        }
+        for (what, a, b) in [
+            (
+                "specimen",
+                &scene.specimen_material.name,
+                &scene0.specimen_material.name,
+            ),
+            (
+                "shot",
+                &scene.shot_material.name,
+                &scene0.shot_material.name,
+            ),
+        ] {
+            if a != b {
+                return Err(empty(
+                    path,
+                    format!(
+                        "--gear-teeth: its {what} material is {a}, {}'s is {b}: the runs must peen one gear with one shot",
+                        path0.display()
+                    ),
+                ));
+            }
+        }
+    }
+    let (target, model) = target_and_model(req.target.as_ref(), req.dent.as_ref(), scene0);
+    // Each file's dents, seed by seed.
+    let per_file: Vec<(f64, Vec<Vec<super::Dent>>)> = read
+        .iter()
+        .map(|(_, file, scene, groove)| {
+            let mut seeds = file.seeds.clone();
+            seeds.sort_unstable();
+            seeds.dedup();
+            if seeds.is_empty() {
+                seeds.push(file.seed);
+            }
+            let runs = seeds
+                .iter()
+                .map(|&s| seed_dents(file, s, &model, scene))
+                .collect();
+            (groove.size().offset, runs)
+        })
+        .collect();
+    let mut radii: Vec<f64> = per_file
+        .iter()
+        .flat_map(|(_, runs)| runs.iter().flatten().map(super::Dent::radius))
+        .collect();
+    if radii.is_empty() {
+        return Err(empty(
+            path0,
+            "no impact with a positive normal speed in any file: nothing dents the gear".into(),
+        ));
+    }
+    radii.sort_by(f64::total_cmp);
+    let median_r = crate::summary::percentile(&radii, 50.0);
+    let offsets: Vec<OffsetRuns> = per_file
+        .iter()
+        .map(|(o, runs)| OffsetRuns {
+            offset: *o,
+            runs: runs.iter().map(Vec::as_slice).collect(),
+        })
+        .collect();
+    let pitch = groove0.size().pitch.expect("BUG: checked above");
+    let period = groove0.period_arc().expect("BUG: a rack has a period");
+    let band = BAND_DIAMETERS * 2.0 * median_r;
+    let profile = GearProfile::new(
+        &offsets,
+        pitch,
+        period,
+        req.turning,
+        median_r / 5.0,
+        band,
+        req.rpm.map(|rpm| req.turning.speed * 60.0 / rpm),
+    )
+    .map_err(|e| {
+        // Name the files the message is about.
+        let files = req
+            .impacts
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
+        CoverageError::Empty {
+            path: files,
+            message: format!("--gear-teeth: {e}"),
+        }
+    })?;
+    let zones = profile.zones(groove0);
+    let least = profile.least();
+    let least_zone = groove0.zone_at(least.offset).name();
+    let banding = match (&profile.banding, req.rpm) {
+        (Some(b), Some(rpm)) => {
+            let n = profile.points.len();
+            let zone_of = |i: usize| groove0.zone_at(profile.points[i].offset);
+            // Points within a dent and the band of each other share most dents.
+            let correlated = (2.0 * median_r + band) / profile.spacing;
+            Some(Banding {
+                rpm,
+                feed_per_revolution_m: b.feed,
+                rms: Bandwidth::of(b, 0..n, correlated),
+                zones: crate::contact::groove::Zone::ALL
+                    .iter()
+                    .filter(|&&z| (0..n).any(|i| zone_of(i) == z))
+                    .map(|&z| {
+                        let idx = (0..n).filter(|&i| zone_of(i) == z);
+                        (z.name(), Bandwidth::of(b, idx, correlated))
+                    })
+                    .collect(),
+            })
+        }
+        _ => None,
+    };
+    let steady_feed = read
+        .iter()
+        .all(|(_, _, s, _)| matches!(s.feed, crate::scene::Feed::Stream { .. }));
+    let mut written = Vec::new();
+    // gear.csv
+    let mut csv = String::from("arc_m,zone,dents_per_point,standard_error,coverage,times_full");
+    csv.push_str(if banding.is_some() {
+        ",banding\n"
+    } else {
+        "\n"
+    });
+    for (i, p) in profile.points.iter().enumerate() {
+        csv.push_str(&format!(
+            "{},{},{},{},{},{}",
+            p.offset,
+            groove0.zone_at(p.offset).name(),
+            p.dents,
+            p.se,
+            traverse::coverage(p.dents),
+            p.dents / traverse::FULL
+        ));
+        match &profile.banding {
+            Some(b) => csv.push_str(&format!(",{}\n", b.power[i].max(0.0).sqrt())),
+            None => csv.push('\n'),
+        }
+    }
+    let p = req.out.join("gear.csv");
+    crate::output::write_atomic(&p, csv.as_bytes())?;
+    written.push(p);
+    // gear.json
+    let full = profile.full_coverage();
+    let files: Vec<serde_json::Value> = req
+        .impacts
+        .iter()
+        .zip(&profile.offsets)
+        .map(|(p, s)| {
+            serde_json::json!({
+                "impacts": p.display().to_string(),
+                "offset_m": s.offset_m,
+                "weight": s.weight,
+                "dents": s.dents,
+                "runs": s.runs,
+                "dent_rate_per_s": s.dent_rate_per_s,
+            })
+        })
+        .collect();
+    let teeth = f64::from(req.turning.teeth);
+    let json = serde_json::json!({
+        "target": target.name,
+        "dent_model": model.describe(),
+        "teeth": req.turning.teeth,
+        "speed_along_axis_m_s": req.turning.speed,
+        "pitch_m": pitch,
+        "period_arc_m": period,
+        "pitch_radius_m": teeth * pitch / std::f64::consts::TAU,
+        "spacing_m": profile.spacing,
+        "band_m": profile.band,
+        "median_dent_diameter_m": 2.0 * median_r,
+        "offsets": files,
+        "mean_dents_per_point": profile.mean(),
+        "least": {
+            "dents_per_point": least.dents,
+            "standard_error": least.se,
+            "arc_m": least.offset,
+            "zone": least_zone,
+            "coverage": traverse::coverage(least.dents),
+        },
+        "full_coverage_speed_m_s": full.map(|f| f.0),
+        "passes_for_full_coverage": full.map(|f| f.1),
+        "zones": zones,
+        "banding": banding,
+        "steady_feed": steady_feed,
+    });
+    let p = req.out.join("gear.json");
+    let mut bytes = serde_json::to_vec_pretty(&json).expect("BUG: json");
+    bytes.push(b'\n');
+    crate::output::write_atomic(&p, &bytes)?;
+    written.push(p);
+    // The profile's figure: one pass, and the passes full coverage takes.
+    let v_mm_s = req.turning.speed * 1e3;
+    let curve = |passes: f64| -> Vec<(f64, f64)> {
+        profile
+            .points
+            .iter()
+            .map(|p| (p.offset * 1e3, 100.0 * traverse::coverage(passes * p.dents)))
+            .collect()
+    };
+    let mut series = vec![Series {
+        name: format!("one pass at {v_mm_s} mm/s"),
+        points: curve(1.0),
+    }];
+    if let Some((_, k)) = full
+        && k > 1
+    {
+        series.push(Series {
+            name: format!("{k} passes (98 % everywhere)"),
+            points: curve(k as f64),
+        });
+    }
+    let spans: Vec<(f64, f64, &str)> = groove0
+        .zone_spans(-0.5 * period, 0.5 * period)
+        .iter()
+        .map(|&(a, b, z)| (a * 1e3, b * 1e3, z.name()))
+        .collect();
+    let stem = req.out.join("gear");
+    plot::lines_marked(
+        &stem,
+        &format!(
+            "turning gear, {} teeth: coverage across a tooth space, nozzle at {v_mm_s} mm/s along the axis",
+            req.turning.teeth
+        ),
+        ("arc from the tooth space's middle, mm", "coverage, %"),
+        &series,
+        &spans,
+    )?;
+    written.push(stem.with_extension("png"));
+    Ok(GearReport {
+        model,
+        target: target.name,
+        dents: radii.len(),
+        median_dent_diameter: 2.0 * median_r,
+        profile,
+        zones,
+        least_zone,
+        steady_feed,
+        banding,
+        written,
+    })
 }

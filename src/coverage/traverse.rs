@@ -107,20 +107,7 @@ impl Track {
     /// seeds): each dent stands for one over their summed exposure. `None` unless
     /// every run has two dents at distinct times.
     pub fn pooled(runs: &[&[Dent]], traverse: Traverse, spacing: f64, band: f64) -> Option<Track> {
-        // Each run's exposure: the span of its dents' times, times N / (N - 1).
-        let mut exposure = 0.0;
-        for dents in runs {
-            let (t_lo, t_hi) = dents
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, d| {
-                    (a.0.min(d.t), a.1.max(d.t))
-                });
-            let n = dents.len();
-            if n < 2 || t_hi <= t_lo {
-                return None;
-            }
-            exposure += (t_hi - t_lo) * n as f64 / (n - 1) as f64;
-        }
+        let exposure = exposure(runs)?;
         let dents: Vec<&Dent> = runs.iter().flat_map(|r| r.iter()).collect();
         let n = dents.len();
         if n == 0 {
@@ -218,6 +205,26 @@ impl Track {
     }
 }
 
+/// The summed exposure (s) of independent runs of one still nozzle: each run's span of
+/// dent times, times `N / (N - 1)` (the mean gap between `N` dents of a steady stream
+/// added once). `None` unless every run has two dents at distinct times.
+pub(super) fn exposure(runs: &[&[Dent]]) -> Option<f64> {
+    let mut exposure = 0.0;
+    for dents in runs {
+        let (t_lo, t_hi) = dents
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, d| {
+                (a.0.min(d.t), a.1.max(d.t))
+            });
+        let n = dents.len();
+        if n < 2 || t_hi <= t_lo {
+            return None;
+        }
+        exposure += (t_hi - t_lo) * n as f64 / (n - 1) as f64;
+    }
+    Some(exposure)
+}
+
 /// The offsets between which `pass` holds all but 1 % of its dents on either side.
 fn core_of(pass: &[Point]) -> (f64, f64) {
     let total: f64 = pass.iter().map(|p| p.dents).sum();
@@ -237,7 +244,7 @@ fn core_of(pass: &[Point]) -> (f64, f64) {
 }
 
 /// The profile's points from their sums `(dents, squares)`, at offsets `at(k)`.
-fn points(sums: Vec<(f64, f64)>, at: impl Fn(usize) -> f64) -> Vec<Point> {
+pub(super) fn points(sums: Vec<(f64, f64)>, at: impl Fn(usize) -> f64) -> Vec<Point> {
     sums.into_iter()
         .enumerate()
         .map(|(k, (n, sq))| Point {
@@ -249,7 +256,7 @@ fn points(sums: Vec<(f64, f64)>, at: impl Fn(usize) -> f64) -> Vec<Point> {
 }
 
 /// The first point no other `better` beats.
-fn least_or_most(pts: &[Point], better: impl Fn(&Point, &Point) -> bool) -> Point {
+pub(super) fn least_or_most(pts: &[Point], better: impl Fn(&Point, &Point) -> bool) -> Point {
     let first = pts.first().copied().unwrap_or(Point {
         offset: 0.0,
         dents: 0.0,
@@ -267,15 +274,15 @@ fn least_or_most(pts: &[Point], better: impl Fn(&Point, &Point) -> bool) -> Poin
 /// at offset `d` is `(a_x a_y / W^2) 2 sqrt(W^2 - d^2)` (the chords still sum to its
 /// area, `pi a_x a_y`). A disc has `W = r` and `stretch = 1`.
 #[derive(Debug, Clone, Copy)]
-struct Across {
-    w: f64,
-    half: f64,
-    stretch: f64,
+pub(super) struct Across {
+    pub(super) w: f64,
+    pub(super) half: f64,
+    pub(super) stretch: f64,
 }
 
 impl Across {
     /// Dent `d` across a track along `(c, s)` (cosine and sine of the direction).
-    fn of(d: &Dent, s: f64, c: f64) -> Across {
+    pub(super) fn of(d: &Dent, s: f64, c: f64) -> Across {
         let w = -d.x * s + d.y * c;
         if d.rx == d.ry {
             return Across {
@@ -297,7 +304,12 @@ impl Across {
 /// wide, centred on it) meets a dent, with the dent's chord along the traverse averaged
 /// over the band (the chord through the point itself for `band = 0`; `across`: each
 /// dent as the track sees it).
-fn for_each_chord(across: &[Across], spacing: f64, band: f64, mut add: impl FnMut(i64, f64)) {
+pub(super) fn for_each_chord(
+    across: &[Across],
+    spacing: f64,
+    band: f64,
+    mut add: impl FnMut(i64, f64),
+) {
     let half = 0.5 * band;
     for a in across {
         let (w, r) = (a.w, a.half);

@@ -107,6 +107,11 @@ pub const EXAMPLES: &[Example] = &[
         false,
         "S230 into the tooth spaces of a module 4 rack: a grooved specimen (beyond the paper)"
     ),
+    example!(
+        "gear_turning_sweep",
+        true,
+        "gear_root's rack at 12 offsets over a pitch: a turning gear's coverage (a sweep)"
+    ),
 ];
 
 /// The example called `name`.
