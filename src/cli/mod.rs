@@ -806,7 +806,7 @@ fn gear_of(a: &CoverageArgs) -> Result<Option<crate::coverage::gear::Turning>> {
             } else {
                 "--cell-um"
             },
-            "the profile spans one period of the rack, with points a tenth of a median dent apart",
+            "the profile spans one period of the rack, with points a tenth of the median dent diameter apart",
         )?;
     }
     if a.seed.is_some() {

@@ -35,12 +35,11 @@
 //! simulation of a turning gear).
 //!
 //! Assumed, besides the still nozzle's ([`super::traverse`]): the rack stands for the
-//! gear near the nozzle. A real tooth space at offset `o` is also turned by `o / R`
-//! (`R` its radius: up to `180 / Z` degrees at half a pitch); the sweep can add that by
-//! tilting the nozzle with the offset (`nozzle.angle_deg`, `nozzle.azimuth_deg`: the
-//! jet travels towards `+x` in the space's frame when the space lies at `+o`;
-//! `examples/gear_turning_sweep.toml`). The gear blank's curvature (the neighbouring teeth
-//! falling away by `x^2 / 2R`) is not modelled.
+//! gear near the nozzle. The gear blank's curvature is left out: the surface `x` from
+//! the jet's foot is really turned by `x / R` (`R` the gear's radius there) and its
+//! neighbouring teeth fall away by `x^2 / 2R`. docs/coverage.md measures what turning
+//! the whole rack with each offset changes (`nozzle.angle_deg` and `azimuth_deg` zipped
+//! with the offsets), a bound on what the curvature can do.
 
 use super::Dent;
 use super::traverse::{Across, FULL, Point, exposure, for_each_chord, least_or_most, points};
