@@ -899,8 +899,31 @@ fn a_turning_gear_end_to_end() {
     // its own grid (2e-7 here).
     let got = json["mean_dents_per_point"].as_f64().unwrap();
     assert!((got - mean).abs() < 1e-5 * mean, "{got} vs {mean}");
-    // The zones sum to the period; the least covered point is in the zone named.
+    // The zones run across the tooth space side by side, the tooth top over the
+    // period's ends; their arcs sum to the period; the least covered point is in one.
     let zones = json["zones"].as_array().unwrap();
+    let named: Vec<String> = zones
+        .iter()
+        .map(|z| {
+            format!(
+                "{}{}",
+                z["zone"].as_str().unwrap(),
+                z["side"].as_str().unwrap()
+            )
+        })
+        .collect();
+    assert_eq!(
+        named,
+        [
+            "edge-", "flank-", "fillet-", "bottom", "fillet+", "flank+", "edge+", "land"
+        ]
+    );
+    let span = |z: &serde_json::Value, k: usize| z["across_m"][k].as_f64().unwrap();
+    for w in zones.windows(2) {
+        assert!((span(&w[0], 1) - span(&w[1], 0)).abs() < 1e-12);
+    }
+    let ends = span(&zones[7], 1) - span(&zones[0], 0);
+    assert!((ends - period).abs() < 1e-12, "{ends} vs {period}");
     let arcs: f64 = zones.iter().map(|z| z["arc_m"].as_f64().unwrap()).sum();
     assert!((arcs - period).abs() < 1e-9, "{arcs} vs {period}");
     let least = json["least"]["dents_per_point"].as_f64().unwrap();

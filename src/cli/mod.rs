@@ -848,17 +848,18 @@ fn print_gear(r: &crate::coverage::output::GearReport) {
         );
     }
     println!(
-        "one pass along the gear, per zone across a tooth space ({:.2} mm of arc per pitch; +- is twice the standard error):",
+        "one pass along the gear, zone by zone across a tooth space ({:.2} mm of arc per pitch, from the space's middle; +- is twice the standard error):",
         g.period * 1e3
     );
     println!(
-        "  zone    arc, mm   dents per point: least      mean   coverage: least    mean   full coverage at, mm/s"
+        "  zone       across, mm        dents per point: least      mean   coverage: least    mean   full coverage at, mm/s"
     );
     for z in &r.zones {
         println!(
-            "  {:<7} {:>7.2}   {:>9.3} +- {:<6.3} {:>7.3}   {:>14.1} % {:>6.1} %   {:>10.4}",
-            z.zone,
-            z.arc_m * 1e3,
+            "  {:<9} {:>7.2}..{:<7.2}   {:>9.3} +- {:<6.3} {:>7.3}   {:>14.1} % {:>6.1} %   {:>10.4}",
+            format!("{}{}", z.zone, crate::coverage::output::side_word(z.side)),
+            z.across_m[0] * 1e3,
+            z.across_m[1] * 1e3,
             z.least_dents,
             2.0 * z.least_standard_error,
             z.mean_dents,
@@ -878,7 +879,7 @@ fn print_gear(r: &crate::coverage::output::GearReport) {
         };
         let (zone, worst) = b.worst();
         println!(
-            "at {} rev/min the nozzle moves {:.3} mm per revolution: dents per point vary along the axis in helical bands of rms amplitude (over their mean) {} over the profile, {} on the {zone}s{}",
+            "at {} rev/min the nozzle moves {:.3} mm per revolution: dents per point vary along the axis in helical bands of rms amplitude (over their mean) {} over the profile, {} on the {zone}{}",
             b.rpm,
             b.feed_per_revolution_m * 1e3,
             show(b.rms),

@@ -211,7 +211,13 @@ impl Bands {
 pub struct ZoneDents {
     /// `bottom`, `fillet`, `flank`, `edge` or `land`.
     pub zone: &'static str,
-    /// Its arc over one period (both sides), m.
+    /// `-` or `+`: the side of the tooth space (negative or positive arc); empty for the
+    /// bottom and the tooth top (`land`), which span both.
+    pub side: &'static str,
+    /// Its span of arc from the tooth space's middle, m (the tooth top's runs past
+    /// `P/2`: its two halves at the period's ends are one land).
+    pub across_m: [f64; 2],
+    /// Its arc over one period, m.
     pub arc_m: f64,
     /// Expected dents per point where fewest.
     pub least_dents: f64,
@@ -374,37 +380,78 @@ impl GearProfile {
         })
     }
 
-    /// The profile zone by zone (`groove`: the rack the runs are on).
-    pub fn zones(&self, groove: &Groove) -> Vec<ZoneDents> {
-        Zone::ALL
-            .iter()
-            .filter_map(|&z| {
-                let pts: Vec<Point> = self
-                    .points
-                    .iter()
-                    .filter(|p| groove.zone_at(p.offset) == z)
-                    .copied()
-                    .collect();
-                if pts.is_empty() {
-                    return None;
+    /// The profile's zones in order across the tooth space (`groove`: the rack the
+    /// runs are on): each zone on each side, the bottom across the middle and the tooth
+    /// top across the period's ends; with the indices of their points.
+    pub fn stretches(&self, groove: &Groove) -> Vec<Stretch> {
+        let half = 0.5 * self.period;
+        let mut spans = groove.zone_spans(-half, half);
+        // The tooth top's halves at both ends are one land.
+        if spans.len() > 1 && spans[0].2 == Zone::Land && spans[spans.len() - 1].2 == Zone::Land {
+            let first = spans.remove(0);
+            let last = spans.last_mut().expect("BUG: spans");
+            last.1 = first.1 + self.period;
+        }
+        spans
+            .into_iter()
+            .map(|(a, b, zone)| {
+                let inside = |u: f64| (a..b).contains(&u) || (a..b).contains(&(u + self.period));
+                let side = match zone {
+                    Zone::Bottom | Zone::Land => "",
+                    _ if a + b < 0.0 => "-",
+                    _ => "+",
+                };
+                Stretch {
+                    zone,
+                    side,
+                    across: [a, b],
+                    points: (0..self.points.len())
+                        .filter(|&i| inside(self.points[i].offset))
+                        .collect(),
                 }
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect()
+    }
+
+    /// The profile zone by zone, in order across the tooth space ([`Self::stretches`]).
+    pub fn zones(&self, groove: &Groove) -> Vec<ZoneDents> {
+        let cov = super::traverse::coverage;
+        self.stretches(groove)
+            .into_iter()
+            .map(|st| {
+                let pts: Vec<Point> = st.points.iter().map(|&i| self.points[i]).collect();
                 let least = least_or_most(&pts, |a, b| b.dents < a.dents);
-                let mean = pts.iter().map(|p| p.dents).sum::<f64>() / pts.len() as f64;
-                let cov = |n: f64| super::traverse::coverage(n);
-                Some(ZoneDents {
-                    zone: z.name(),
-                    arc_m: pts.len() as f64 * self.spacing,
+                let n = pts.len() as f64;
+                ZoneDents {
+                    zone: st.zone.name(),
+                    side: st.side,
+                    across_m: st.across,
+                    arc_m: n * self.spacing,
                     least_dents: least.dents,
                     least_standard_error: least.se,
                     least_arc_m: least.offset,
-                    mean_dents: mean,
+                    mean_dents: pts.iter().map(|p| p.dents).sum::<f64>() / n,
                     least_coverage: cov(least.dents),
-                    mean_coverage: pts.iter().map(|p| cov(p.dents)).sum::<f64>() / pts.len() as f64,
+                    mean_coverage: pts.iter().map(|p| cov(p.dents)).sum::<f64>() / n,
                     full_coverage_speed_m_s: self.turning.speed * least.dents / FULL,
-                })
+                }
             })
             .collect()
     }
+}
+
+/// A zone of a [`GearProfile`] on one side of the tooth space ([`GearProfile::stretches`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stretch {
+    /// The zone.
+    pub zone: Zone,
+    /// `-`, `+` or empty (the bottom and the tooth top span both sides).
+    pub side: &'static str,
+    /// Its span of arc, m (the tooth top's runs past the period's end).
+    pub across: [f64; 2],
+    /// Indices of its points in [`GearProfile::points`].
+    pub points: Vec<usize>,
 }
 
 #[cfg(test)]

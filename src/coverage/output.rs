@@ -698,8 +698,8 @@ pub struct GearReport {
     pub profile: GearProfile,
     /// The profile zone by zone.
     pub zones: Vec<ZoneDents>,
-    /// The zone of the least covered point.
-    pub least_zone: &'static str,
+    /// The zone (and side) of the least covered point.
+    pub least_zone: String,
     /// Whether every run's feed is a steady stream.
     pub steady_feed: bool,
     /// With the gear's speed: the largest helical banding.
@@ -718,8 +718,9 @@ pub struct Banding {
     /// The rms amplitude of the dents' variation along the axis over their mean, over
     /// the whole profile.
     pub rms: Bandwidth,
-    /// The same zone by zone (`bottom`, `fillet`, ...).
-    pub zones: Vec<(&'static str, Bandwidth)>,
+    /// The same zone by zone, in order across the tooth space (`flank -`, `fillet -`,
+    /// `bottom`, ...).
+    pub zones: Vec<(String, Bandwidth)>,
 }
 
 /// An rms band amplitude estimated from the runs' dents.
@@ -727,8 +728,9 @@ pub struct Banding {
 pub struct Bandwidth {
     /// The estimate, `sqrt(max(0, mean power))`.
     pub rms: f64,
-    /// Twice the mean power's standard error, as an amplitude: the estimate is the
-    /// runs' noise where `rms` is below it.
+    /// Three standard errors of the mean power, as an amplitude: the estimate is the
+    /// runs' noise where `rms` is below it (three, not two: a profile has eight zones
+    /// to look at).
     pub noise: f64,
 }
 
@@ -737,7 +739,7 @@ impl Bandwidth {
         let (p, se) = b.mean_power(idx, correlated);
         Bandwidth {
             rms: p.max(0.0).sqrt(),
-            noise: (2.0 * se).sqrt(),
+            noise: (3.0 * se).sqrt(),
         }
     }
 
@@ -748,16 +750,40 @@ impl Bandwidth {
 }
 
 impl Banding {
-    /// The zone with the strongest bands.
-    pub fn worst(&self) -> (&'static str, Bandwidth) {
-        let none = Bandwidth {
-            rms: 0.0,
-            noise: 0.0,
+    /// The zone with the strongest bands that stand out of the noise, or where none
+    /// does, the one whose noise level is highest (the bound that holds everywhere).
+    pub fn worst(&self) -> (&str, Bandwidth) {
+        let key = |w: &Bandwidth| {
+            if w.resolved() {
+                (1, w.rms)
+            } else {
+                (0, w.noise)
+            }
         };
         self.zones
             .iter()
-            .copied()
-            .fold(("", none), |a, z| if z.1.rms > a.1.rms { z } else { a })
+            .max_by(|a, b| {
+                let (ka, kb) = (key(&a.1), key(&b.1));
+                ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+            })
+            .map(|(n, w)| (n.as_str(), *w))
+            .unwrap_or((
+                "",
+                Bandwidth {
+                    rms: 0.0,
+                    noise: 0.0,
+                },
+            ))
+    }
+}
+
+/// ` -` or ` +` after a zone's name for its side of the tooth space (nothing for the
+/// bottom and the tooth top).
+pub fn side_word(side: &str) -> String {
+    if side.is_empty() {
+        String::new()
+    } else {
+        format!(" {side}")
     }
 }
 
@@ -898,23 +924,29 @@ pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
     })?;
     let zones = profile.zones(groove0);
     let least = profile.least();
-    let least_zone = groove0.zone_at(least.offset).name();
+    let least_zone = zones
+        .iter()
+        .find(|z| z.least_dents == least.dents && z.least_arc_m == least.offset)
+        .map(|z| format!("{}{}", z.zone, side_word(z.side)))
+        .unwrap_or_else(|| groove0.zone_at(least.offset).name().to_string());
     let banding = match (&profile.banding, req.rpm) {
         (Some(b), Some(rpm)) => {
             let n = profile.points.len();
-            let zone_of = |i: usize| groove0.zone_at(profile.points[i].offset);
             // Points within a dent and the band of each other share most dents.
             let correlated = (2.0 * median_r + band) / profile.spacing;
             Some(Banding {
                 rpm,
                 feed_per_revolution_m: b.feed,
                 rms: Bandwidth::of(b, 0..n, correlated),
-                zones: crate::contact::groove::Zone::ALL
+                zones: profile
+                    .stretches(groove0)
                     .iter()
-                    .filter(|&&z| (0..n).any(|i| zone_of(i) == z))
-                    .map(|&z| {
-                        let idx = (0..n).filter(|&i| zone_of(i) == z);
-                        (z.name(), Bandwidth::of(b, idx, correlated))
+                    .map(|st| {
+                        let name = format!("{}{}", st.zone.name(), side_word(st.side));
+                        (
+                            name,
+                            Bandwidth::of(b, st.points.iter().copied(), correlated),
+                        )
                     })
                     .collect(),
             })
