@@ -958,8 +958,9 @@ pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
         .all(|(_, _, s, _)| matches!(s.feed, crate::scene::Feed::Stream { .. }));
     let mut written = Vec::new();
     // gear.csv
+    let amplitude = profile.banding.as_ref().map(super::gear::Bands::amplitude);
     let mut csv = String::from("arc_m,zone,dents_per_point,standard_error,coverage,times_full");
-    csv.push_str(if banding.is_some() {
+    csv.push_str(if amplitude.is_some() {
         ",banding\n"
     } else {
         "\n"
@@ -974,8 +975,8 @@ pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
             traverse::coverage(p.dents),
             p.dents / traverse::FULL
         ));
-        match &profile.banding {
-            Some(b) => csv.push_str(&format!(",{}\n", b.power[i].max(0.0).sqrt())),
+        match &amplitude {
+            Some(a) => csv.push_str(&format!(",{}\n", a[i])),
             None => csv.push('\n'),
         }
     }
