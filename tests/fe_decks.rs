@@ -1083,7 +1083,7 @@ fn decks_of_a_groove_lay_the_target_under_its_surface() {
     let err = deck::build(&imp, &bar_settings(&sc))
         .unwrap_err()
         .to_string();
-    assert!(err.contains("spans an edge of the groove"), "{err}");
+    assert!(err.contains("spans a convex edge of the groove"), "{err}");
     // A shot off the left flank down into the right fillet: both impacts in one deck
     // would fly it back through the left flank.
     let bounce = tmp.path().join("bounce");

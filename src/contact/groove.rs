@@ -27,6 +27,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use super::involute::Gear;
 use crate::Vec3;
 
 /// Where on the cross-section a surface point lies.
@@ -85,8 +86,22 @@ pub struct GrooveSize {
     /// Direction of the groove's axis, rad from +x in the horizontal plane.
     pub axis_angle: f64,
     /// Where the groove's middle lies across from the jet axis' foot (the origin),
-    /// towards `axis x +z`, m (0: under the jet).
+    /// towards `axis x +z`, m (0: under the jet). On a gear, the arc along the pitch
+    /// circle the gear is turned by.
     pub offset: f64,
+    /// `Some`: the gear this rack cuts ([`super::involute`]), whose circular pitch is
+    /// `pitch`; its root circle's top runs through the origin at `z = 0`.
+    pub gear: Option<GearTeeth>,
+}
+
+/// A gear's teeth and where its pitch circle rolls on the rack.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GearTeeth {
+    /// Number of teeth.
+    pub teeth: u32,
+    /// The dedendum: the rack's pitch line above its bottom (the gear's pitch circle
+    /// above its root circle), m.
+    pub dedendum: f64,
 }
 
 /// Why a groove's dimensions do not make one.
@@ -102,6 +117,17 @@ pub enum GrooveError {
     PitchTooSmall {
         /// The smallest pitch, m.
         needed: f64,
+    },
+    /// The rack would undercut the gear's flanks (`needed_teeth`: the fewest teeth it
+    /// cuts without).
+    Undercut {
+        /// The fewest teeth without undercut.
+        needed_teeth: u32,
+    },
+    /// The gear's profile does not close (`why`).
+    GearTooSmall {
+        /// What fails, in words.
+        why: String,
     },
 }
 
@@ -132,6 +158,8 @@ pub struct Groove {
     u_edge: f64,
     u_land: f64,
     u_half: f64,
+    /// The gear the rack cuts, if one ([`GrooveSize::gear`]): it then is the surface.
+    gear: Option<Gear>,
 }
 
 /// A point's foot on the surface, on the half cross-section `s >= 0`.
@@ -166,7 +194,9 @@ impl Groove {
         let f0 = (hb + r * ca, r * (1.0 - sa));
         let needed = (r + rho) * (1.0 - sa);
         let lw = (size.depth - needed) / ca;
-        if lw < 0.0 {
+        // (A gear's rack only cuts with its tooth tips and flanks: its own lands and
+        // edges need not fit.)
+        if lw < 0.0 && size.gear.is_none() {
             return Err(GrooveError::TooShallow { needed });
         }
         let f1 = (f0.0 + lw * sa, f0.1 + lw * ca);
@@ -179,13 +209,31 @@ impl Groove {
         let u_half = match size.pitch {
             None => f64::INFINITY,
             Some(p) => {
-                if 0.5 * p < ce.0 {
+                if 0.5 * p < ce.0 && size.gear.is_none() {
                     return Err(GrooveError::PitchTooSmall { needed: 2.0 * ce.0 });
                 }
                 u_land + 0.5 * p - ce.0
             }
         };
         let axis = Vec3::new(size.axis_angle.cos(), size.axis_angle.sin(), 0.0);
+        let gear = match size.gear {
+            None => None,
+            Some(t) => Some(Gear::new(
+                t.teeth,
+                size.pitch.unwrap_or(f64::NAN),
+                size.flank,
+                t.dedendum,
+                hb,
+                r,
+                size.depth,
+                rho,
+                size.offset,
+            )?),
+        };
+        let [u_fillet, u_flank, u_edge, u_land, u_half] = match &gear {
+            Some(g) => g.arcs(),
+            None => [u_fillet, u_flank, u_edge, u_land, u_half],
+        };
         Ok(Groove {
             size,
             axis,
@@ -202,7 +250,13 @@ impl Groove {
             u_edge,
             u_land,
             u_half,
+            gear,
         })
+    }
+
+    /// The gear the rack cuts, if the surface is one.
+    pub fn gear(&self) -> Option<&Gear> {
+        self.gear.as_ref()
     }
 
     /// The dimensions it was built from.
@@ -306,6 +360,14 @@ impl Groove {
     /// The nearest surface point's distance, outward normal and zone for `pos`.
     #[inline]
     pub fn foot(&self, pos: &Vec3) -> Foot {
+        if let Some(g) = &self.gear {
+            let (distance, n, zone, _) = g.foot(pos.dot(&self.across), pos.z);
+            return Foot {
+                distance,
+                normal: self.across * n.0 + Vec3::z() * n.1,
+                zone,
+            };
+        }
         let (_, s) = self.fold(self.s_of(pos));
         let h = self.half_foot(s.abs(), pos.z);
         let sign = if s < 0.0 { -1.0 } else { 1.0 };
@@ -319,6 +381,9 @@ impl Groove {
     /// Distance (m) of `pos` from the surface, positive in the air.
     #[inline]
     pub fn distance(&self, pos: &Vec3) -> f64 {
+        if let Some(g) = &self.gear {
+            return g.foot(pos.dot(&self.across), pos.z).0;
+        }
         let (_, s) = self.fold(self.s_of(pos));
         self.half_foot(s.abs(), pos.z).distance
     }
@@ -331,6 +396,12 @@ impl Groove {
     #[inline]
     pub fn effective_radius(&self, pos: &Vec3, radius: f64) -> f64 {
         let r = radius;
+        if self.gear.is_some() {
+            // Every piece of a gear is curved, by `k` (convex but for the fillets): the
+            // cylinder's `sqrt(r R'')` with `1/R'' = 1/r + k`.
+            let k = self.curvature_across(pos);
+            return (r * (r / (1.0 + r * k))).sqrt();
+        }
         match self.foot(pos).zone {
             Zone::Bottom | Zone::Flank | Zone::Land => r,
             Zone::Fillet => self.fillet_effective_radius(r),
@@ -344,6 +415,9 @@ impl Groove {
     /// Signed curvature (1/m, convex positive) of the piece under `pos` across the
     /// groove ([`crate::contact::specimen::SpecimenShape::curvature_across`]).
     pub fn curvature_across(&self, pos: &Vec3) -> f64 {
+        if let Some(g) = &self.gear {
+            return g.foot(pos.dot(&self.across), pos.z).3;
+        }
         match self.foot(pos).zone {
             Zone::Bottom | Zone::Flank | Zone::Land => 0.0,
             Zone::Fillet => -1.0 / self.size.radius,
@@ -387,6 +461,12 @@ impl Groove {
     /// `across`, over every groove and land on the way with a pitch) and the distance
     /// along the axis.
     pub fn unrolled(&self, pos: &Vec3) -> (f64, f64) {
+        if let Some(g) = &self.gear {
+            return (
+                g.unrolled(pos.dot(&self.across), pos.z),
+                pos.dot(&self.axis),
+            );
+        }
         let (k, s) = self.fold(self.s_of(pos));
         let u = self.half_arc(s.abs(), pos.z);
         let u = if s < 0.0 { -u } else { u };
@@ -396,7 +476,18 @@ impl Groove {
 
     /// The zone of the surface at arc length `u` (as [`Groove::unrolled`] gives it).
     pub fn zone_at(&self, u: f64) -> Zone {
-        self.half_at(self.fold_arc(u).1.abs()).2
+        let a = self.fold_arc(u).1.abs();
+        if a < self.u_fillet {
+            Zone::Bottom
+        } else if a <= self.u_flank {
+            Zone::Fillet
+        } else if a <= self.u_edge {
+            Zone::Flank
+        } else if a <= self.u_land {
+            Zone::Edge
+        } else {
+            Zone::Land
+        }
     }
 
     /// `u` folded into its period: `(period index, arc from that groove's middle)`.
@@ -447,6 +538,13 @@ impl Groove {
     /// its outward normal.
     pub fn point_at(&self, u: f64, w: f64) -> (Vec3, Vec3) {
         let (k, ul) = self.fold_arc(u);
+        if let Some(g) = &self.gear {
+            let ((s, z), (ns, nz), _) = g.point_at(k, ul);
+            return (
+                self.across * s + self.axis * w + Vec3::z() * z,
+                self.across * ns + Vec3::z() * nz,
+            );
+        }
         let ((s, z), (ns, nz), _) = self.half_at(ul.abs());
         let sign = if ul < 0.0 { -1.0 } else { 1.0 };
         let s = sign * s + k * self.size.pitch.unwrap_or(0.0) + self.size.offset;
@@ -463,6 +561,15 @@ impl Groove {
     /// faster than their rate now; the fillets' (concave) close at most at the speed
     /// across the axis. With a pitch the neighbouring grooves count too.
     pub fn time_to_touch(&self, pos: &Vec3, vel: &Vec3, radius: f64) -> f64 {
+        if let Some(g) = &self.gear {
+            return g.time_to_touch(
+                pos.dot(&self.across),
+                pos.z,
+                vel.dot(&self.across),
+                vel.z,
+                radius,
+            );
+        }
         let (_, s) = self.fold(self.s_of(pos));
         let (z, vs, vz) = (pos.z, vel.dot(&self.across), vel.z);
         let speed = vs.hypot(vz);
@@ -566,7 +673,10 @@ impl Groove {
     /// Smallest convex radius of the surface (the edges'), m: a block laid under the
     /// surface must stay shallower.
     pub fn edge_radius(&self) -> f64 {
-        self.size.edge_radius
+        match &self.gear {
+            Some(g) => g.smallest_convex_radius(),
+            None => self.size.edge_radius,
+        }
     }
 
     /// The zones met between arc lengths `u_lo` and `u_hi` (as [`Groove::unrolled`] gives
@@ -646,6 +756,7 @@ mod tests {
             pitch: Some(std::f64::consts::PI * 3e-3),
             axis_angle: 90f64.to_radians(),
             offset: 0.0,
+            gear: None,
         })
         .unwrap()
     }
@@ -718,6 +829,7 @@ mod tests {
                 pitch: None,
                 axis_angle: 0.0,
                 offset: 0.0,
+                gear: None,
             })
             .unwrap(),
             // The rack moved 2.3 mm across, off the jet axis' foot.

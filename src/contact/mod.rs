@@ -13,6 +13,7 @@ pub mod broad;
 pub mod friction;
 pub mod groove;
 pub mod hertz;
+pub mod involute;
 pub mod pair;
 pub mod restitution;
 pub mod specimen;

@@ -202,6 +202,9 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => ("x", "y"),
             SpecimenShape::Cylinder { .. } => ("around the bar", "along its axis"),
+            SpecimenShape::Groove(g) if g.gear().is_some() => {
+                ("across the teeth", "along the axis")
+            }
             SpecimenShape::Groove(_) => ("across the groove", "along it"),
         }
     }
@@ -213,8 +216,11 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => f64::NEG_INFINITY,
             SpecimenShape::Cylinder { radius, .. } => -2.0 * radius - 2.0 * r_max,
-            // The lands run on for ever: nothing passes the groove.
-            SpecimenShape::Groove(_) => f64::NEG_INFINITY,
+            // A gear's lowest point; a groove's lands run on for ever: nothing passes it.
+            SpecimenShape::Groove(g) => match g.gear() {
+                Some(gear) => gear.bottom_z() - 2.0 * r_max,
+                None => f64::NEG_INFINITY,
+            },
         }
     }
 }

@@ -804,7 +804,7 @@ pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
                 return Err(empty(
                     path,
                     format!(
-                        "--gear-teeth: the specimen is a {}; a turning gear needs runs on a rack ([specimen] shape = \"groove\" with pitch_mm)",
+                        "--gear-teeth: the specimen is a {}; a turning gear needs runs on a rack ([specimen] shape = \"groove\" with pitch_mm) or on the gear (shape = \"gear\")",
                         match other {
                             SpecimenShape::Plane => "plane",
                             _ => "cylinder",
@@ -817,6 +817,19 @@ pub fn run_gear(req: &GearRequest) -> Result<GearReport, CoverageError> {
             return Err(empty(
                 path,
                 "--gear-teeth: [specimen] pitch_mm is left out (one groove); a gear's tooth spaces repeat: give the rack's pitch".into(),
+            ));
+        }
+        if let Some(g) = groove.gear()
+            && g.teeth() != req.turning.teeth
+        {
+            return Err(empty(
+                path,
+                format!(
+                    "--gear-teeth {}: the runs' gear has {} teeth ([specimen] teeth); give --gear-teeth {}",
+                    req.turning.teeth,
+                    g.teeth(),
+                    g.teeth()
+                ),
             ));
         }
         read.push((path, file, scene, groove));

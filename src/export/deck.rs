@@ -995,7 +995,11 @@ fn straight_path_clear(
             let (u, w) = shape.unrolled(&foot);
             if (u0 - r..=u1 + r).contains(&u) && (w0 - r..=w1 + r).contains(&w) {
                 return Err(match shape {
-                    SpecimenShape::Groove(g) => format!("the groove's {}", g.zone(&p).name()),
+                    SpecimenShape::Groove(g) => format!(
+                        "the {}'s {}",
+                        if g.gear().is_some() { "gear" } else { "groove" },
+                        g.zone(&p).name()
+                    ),
                     _ => "the bar".into(),
                 });
             }
@@ -1022,10 +1026,10 @@ fn tilt_ball(nodes: &mut [[f64; 3]], centre: [f64; 3], phi: f64) {
 
 /// How the flat target block (laid out on the specimen's unrolled surface) becomes the
 /// specimen's: bent around a bar ([`BarBend`]) or laid into a groove ([`GrooveLay`]).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Bend {
     Bar(BarBend),
-    Groove(GrooveLay),
+    Groove(Box<GrooveLay>),
 }
 
 impl Bend {
@@ -1044,9 +1048,9 @@ impl Bend {
             SpecimenShape::Cylinder { radius, axis } => Some(Bend::Bar(BarBend::new(
                 *radius, *axis, u0, v0, u_lo, u_hi, depth,
             )?)),
-            SpecimenShape::Groove(g) => {
-                Some(Bend::Groove(GrooveLay::new(g, u0, v0, u_lo, u_hi, depth)?))
-            }
+            SpecimenShape::Groove(g) => Some(Bend::Groove(Box::new(GrooveLay::new(
+                g, u0, v0, u_lo, u_hi, depth,
+            )?))),
         })
     }
 
@@ -1127,18 +1131,36 @@ impl GrooveLay {
         if depth >= 0.8 * rho {
             let (a, b) = (u0 + u_lo, u0 + u_hi);
             let samples = ((b - a) / (0.25 * rho)).ceil().max(1.0) as usize;
-            let on_edge = (0..=samples).any(|k| {
-                groove.zone_at(a + (b - a) * k as f64 / samples as f64)
-                    == crate::contact::groove::Zone::Edge
-            });
-            if on_edge {
+            // The sharpest convex piece spanned (an edge; on a gear also the flanks near
+            // the fillets and the root and tip circles).
+            let sharpest = (0..=samples)
+                .map(|k| {
+                    let u = a + (b - a) * k as f64 / samples as f64;
+                    let (p, _) = groove.point_at(u, v0);
+                    (groove.curvature_across(&p), groove.zone_at(u))
+                })
+                .fold((0.0, crate::contact::groove::Zone::Edge), |m, c| {
+                    if c.0 > m.0 { c } else { m }
+                });
+            if sharpest.0 * depth >= 0.8 {
                 return Err(DeckError::Bend(format!(
-                    "the target block is {:.3} mm deep (2.5 shot radii) and spans an edge of the \
-                     groove, whose {:.3} mm radius needs it shallower than 0.8 times that: select \
-                     impacts away from the edges (--window on the unrolled surface, mm of arc \
-                     across the groove and along it)",
+                    "the target block is {:.3} mm deep (2.5 shot radii) and spans a convex {} of \
+                     the {}, whose {:.3} mm radius needs it shallower than 0.8 times that: \
+                     select impacts away from it (--window on the unrolled surface, mm of arc \
+                     across the {} and along it)",
                     depth * 1e3,
-                    rho * 1e3
+                    sharpest.1.name(),
+                    if groove.gear().is_some() {
+                        "gear"
+                    } else {
+                        "groove"
+                    },
+                    1e3 / sharpest.0,
+                    if groove.gear().is_some() {
+                        "teeth"
+                    } else {
+                        "groove"
+                    },
                 )));
             }
         }

@@ -608,8 +608,26 @@ impl Tables {
             }
             SpecimenShape::Groove(g) => {
                 let z = g.size();
-                file.set_attr_string("specimen_shape", "groove")
-                    .map_err(&e)?;
+                let shape = if g.gear().is_some() { "gear" } else { "groove" };
+                file.set_attr_string("specimen_shape", shape).map_err(&e)?;
+                if let Some(gear) = g.gear() {
+                    // A gear's: its teeth, module and pitch, root, tip and base radii;
+                    // the groove's attributes below are its cutting rack's.
+                    let (r_p, r_f, r_a, r_b) = gear.radii();
+                    for (name, value) in [
+                        ("specimen_teeth", gear.teeth() as f64),
+                        (
+                            "specimen_module_m",
+                            z.pitch.unwrap_or(0.0) / std::f64::consts::PI,
+                        ),
+                        ("specimen_pitch_radius_m", r_p),
+                        ("specimen_root_radius_m", r_f),
+                        ("specimen_tip_radius_m", r_a),
+                        ("specimen_base_radius_m", r_b),
+                    ] {
+                        file.set_attr_numeric(name, &value).map_err(&e)?;
+                    }
+                }
                 for (name, value) in [
                     ("specimen_radius_m", z.radius),
                     ("specimen_bottom_m", z.bottom),

@@ -242,6 +242,36 @@ impl Scene {
         }
         if let (crate::contact::specimen::SpecimenShape::Groove(g), true) =
             (&self.specimen_shape, decisions[3].on)
+            && let Some(gear) = g.gear()
+        {
+            let z = g.size();
+            let n = super::validate::num;
+            let (r_p, r_f, r_a, _) = gear.radii();
+            decisions[3].reason += &format!(
+                "; a spur gear of {} teeth, module {} mm, pressure angle {} degrees, root, \
+                 pitch and tip circles {} / {} / {} mm in diameter, root fillets cut by a \
+                 {} mm tool radius, tip edges of {} mm, its axis at {} degrees from +x{}",
+                gear.teeth(),
+                n(z.pitch.unwrap_or(0.0) / std::f64::consts::PI * 1e3),
+                n(z.flank.to_degrees()),
+                n(2e3 * r_f),
+                n(2e3 * r_p),
+                n(2e3 * r_a),
+                n(z.radius * 1e3),
+                n(z.edge_radius * 1e3),
+                n(z.axis_angle.to_degrees()),
+                if z.offset != 0.0 {
+                    format!(
+                        ", turned {} mm along its pitch circle from a tooth space's middle under \
+                         the jet axis' foot",
+                        n(z.offset * 1e3)
+                    )
+                } else {
+                    String::new()
+                }
+            );
+        } else if let (crate::contact::specimen::SpecimenShape::Groove(g), true) =
+            (&self.specimen_shape, decisions[3].on)
         {
             let z = g.size();
             let n = super::validate::num;

@@ -112,6 +112,16 @@ pub const EXAMPLES: &[Example] = &[
         true,
         "gear_root's rack at 12 offsets over a pitch: a turning gear's coverage (a sweep)"
     ),
+    example!(
+        "spur_gear",
+        false,
+        "S230 onto a 30-tooth module 4 spur gear, the gear gear_root's rack cuts (beyond the paper)"
+    ),
+    example!(
+        "spur_gear_turning_sweep",
+        true,
+        "spur_gear turned over one pitch at 12 offsets: a turning gear's coverage on the gear itself (a sweep)"
+    ),
 ];
 
 /// The example called `name`.

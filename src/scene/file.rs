@@ -363,9 +363,10 @@ pub struct SpecimenFile {
     /// Specimen material (library name). Table 2: steel E = 210 GPa.
     pub material: String,
     /// Surface: "plane" (the paper's flat plate, `z = 0`), "cylinder" (beyond the
-    /// paper: a bar or a spring's wire, its crest line at `z = 0` through the origin) or
-    /// "groove" (beyond the paper: a slot, or a rack's or gear's tooth spaces, its
-    /// bottom's middle line at `z = 0` through the origin).
+    /// paper: a bar or a spring's wire, its crest line at `z = 0` through the origin),
+    /// "groove" (beyond the paper: a slot, or a rack's tooth spaces, its bottom's middle
+    /// line at `z = 0` through the origin) or "gear" (beyond the paper: a spur gear, the
+    /// top of its root circle at `z = 0` through the origin).
     pub shape: String,
     /// Cylinder radius, or a groove's root fillet radius, mm.
     pub radius_mm: Option<f64>,
@@ -383,8 +384,19 @@ pub struct SpecimenFile {
     /// Distance between neighbouring grooves, mm (a rack; default: one groove).
     pub pitch_mm: Option<f64>,
     /// Where the groove's middle lies across from the jet axis' foot, mm (default 0:
-    /// the jet aims at the middle of the bottom).
+    /// the jet aims at the middle of the bottom); on a gear, the arc along its pitch
+    /// circle it is turned by.
     pub offset_mm: Option<f64>,
+    /// A gear's number of teeth.
+    pub teeth: Option<i64>,
+    /// A gear's module, mm.
+    pub module_mm: Option<f64>,
+    /// A gear's pressure angle, degrees (default 20).
+    pub pressure_angle_deg: Option<f64>,
+    /// A gear's addendum, pitch to tip circle, mm (default: the module).
+    pub addendum_mm: Option<f64>,
+    /// A gear's dedendum, root to pitch circle, mm (default: 1.25 modules).
+    pub dedendum_mm: Option<f64>,
 }
 
 impl Default for SpecimenFile {
@@ -400,6 +412,11 @@ impl Default for SpecimenFile {
             edge_radius_mm: None,
             pitch_mm: None,
             offset_mm: None,
+            teeth: None,
+            module_mm: None,
+            pressure_angle_deg: None,
+            addendum_mm: None,
+            dedendum_mm: None,
         }
     }
 }

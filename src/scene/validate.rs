@@ -153,20 +153,7 @@ fn groove(
         None => None,
         Some(p) => Some(c.range("specimen.pitch_mm", p, B::Ex(0.0), B::In(1e5), "mm")? * 1e-3),
     };
-    let axis = c.range(
-        "specimen.axis_deg",
-        sf.axis_deg.unwrap_or(90.0),
-        B::In(0.0),
-        B::Ex(180.0),
-        "degrees from +x",
-    )?;
-    let offset = c.range(
-        "specimen.offset_mm",
-        sf.offset_mm.unwrap_or(0.0),
-        B::In(-1e4),
-        B::In(1e4),
-        "mm across the groove from the jet axis' foot",
-    )?;
+    let (axis, offset) = axis_and_offset(c, sf, "mm across the groove from the jet axis' foot")?;
     let size = GrooveSize {
         radius: radius * 1e-3,
         bottom: bottom * 1e-3,
@@ -176,6 +163,7 @@ fn groove(
         pitch,
         axis_angle: axis.to_radians(),
         offset: offset * 1e-3,
+        gear: None,
     };
     match Groove::new(size) {
         Ok(g) => Ok(crate::contact::specimen::SpecimenShape::Groove(
@@ -201,7 +189,188 @@ fn groove(
                 num(needed * 1e3)
             ),
         )),
+        Err(GrooveError::Undercut { .. } | GrooveError::GearTooSmall { .. }) => {
+            unreachable!("BUG: a groove without teeth is not a gear")
+        }
     }
+}
+
+/// A groove's or a gear's `axis_deg` and `offset_mm` (`offset`: the latter's unit and
+/// meaning, for the message).
+fn axis_and_offset(
+    c: &Checker,
+    sf: &super::file::SpecimenFile,
+    offset: &str,
+) -> Result<(f64, f64), SceneError> {
+    let axis = c.range(
+        "specimen.axis_deg",
+        sf.axis_deg.unwrap_or(90.0),
+        B::In(0.0),
+        B::Ex(180.0),
+        "degrees from +x",
+    )?;
+    let offset = c.range(
+        "specimen.offset_mm",
+        sf.offset_mm.unwrap_or(0.0),
+        B::In(-1e4),
+        B::In(1e4),
+        offset,
+    )?;
+    Ok((axis, offset))
+}
+
+/// A spur gear's `[specimen]` keys (`shape = "gear"`): the gear an ISO 53 style rack
+/// cuts ([`crate::contact::involute`]); `r_max` the largest shot's radius, m.
+fn gear(
+    c: &Checker,
+    sf: &super::file::SpecimenFile,
+    r_max: f64,
+) -> Result<crate::contact::specimen::SpecimenShape, SceneError> {
+    use crate::contact::groove::{GearTeeth, Groove, GrooveError, GrooveSize};
+    let r_mm = r_max * 1e3;
+    let (Some(teeth), Some(module)) = (sf.teeth, sf.module_mm) else {
+        return Err(c.invalid(
+            if sf.teeth.is_none() {
+                "specimen.teeth"
+            } else {
+                "specimen.module_mm"
+            },
+            "shape = \"gear\" needs teeth (the number of teeth) and module_mm",
+        ));
+    };
+    let teeth = c.range(
+        "specimen.teeth",
+        teeth as f64,
+        B::In(6.0),
+        B::In(1000.0),
+        "teeth",
+    )? as u32;
+    let m = c.range("specimen.module_mm", module, B::Ex(0.0), B::In(100.0), "mm")?;
+    let alpha = c.range(
+        "specimen.pressure_angle_deg",
+        sf.pressure_angle_deg.unwrap_or(20.0),
+        B::In(10.0),
+        B::In(35.0),
+        "degrees",
+    )?;
+    let addendum = c.range(
+        "specimen.addendum_mm",
+        sf.addendum_mm.unwrap_or(m),
+        B::Ex(0.0),
+        B::In(2.0 * m),
+        "mm (up to 2 modules; 1 module when left out)",
+    )?;
+    // The rack's corner must fit under its pitch line and the shot in the fillet (as
+    // in a groove).
+    let radius = c.range(
+        "specimen.radius_mm",
+        sf.radius_mm.unwrap_or(0.38 * m),
+        B::In((1.5 * r_mm * 1e12).round() / 1e12),
+        B::In(m),
+        "mm (the root fillets, the cutter's tip radius; 0.38 modules when left out: from \
+         1.5 times the largest shot's radius, a shot in a tighter fillet touches it along an \
+         arc, up to a module)",
+    )?;
+    let dedendum = c.range(
+        "specimen.dedendum_mm",
+        sf.dedendum_mm.unwrap_or(1.25 * m),
+        B::Ex(radius),
+        B::In(2.0 * m),
+        "mm (above the root fillets' radius_mm, up to 2 modules; 1.25 modules when left out)",
+    )?;
+    let edge_radius = c.range(
+        "specimen.edge_radius_mm",
+        sf.edge_radius_mm.unwrap_or(0.2 * m),
+        B::In(r_mm),
+        B::In(m),
+        "mm (the tip edges; 0.2 modules when left out: from the largest shot's radius, a \
+         sharper edge is not modelled, up to a module)",
+    )?;
+    let (axis, offset) = axis_and_offset(
+        c,
+        sf,
+        "mm along the pitch circle, the tooth space's middle from the jet axis' foot",
+    )?;
+    let (a, pitch) = (alpha.to_radians(), std::f64::consts::PI * m);
+    let (sa, ca) = a.sin_cos();
+    // The rack's tooth tip (the groove's bottom) between its corners, for a tooth space
+    // half a pitch wide at the pitch line.
+    let hb = pitch / 4.0 - (dedendum - radius * (1.0 - sa)) * sa / ca - radius * ca;
+    if hb < 0.0 {
+        let most = (pitch / 4.0 - dedendum * sa / ca) / (ca - (1.0 - sa) * sa / ca);
+        return Err(c.invalid(
+            "specimen.radius_mm",
+            format!(
+                "root fillets of {} mm do not fit the cutter's tooth tip with module_mm = {}, \
+                 pressure_angle_deg = {} and dedendum_mm = {}: use radius_mm <= {} mm",
+                num(radius),
+                num(m),
+                num(alpha),
+                num(dedendum),
+                num(most)
+            ),
+        ));
+    }
+    let size = GrooveSize {
+        radius: radius * 1e-3,
+        bottom: 2.0 * hb * 1e-3,
+        flank: a,
+        depth: (addendum + dedendum) * 1e-3,
+        edge_radius: edge_radius * 1e-3,
+        pitch: Some(pitch * 1e-3),
+        axis_angle: axis.to_radians(),
+        offset: offset * 1e-3,
+        gear: Some(GearTeeth {
+            teeth,
+            dedendum: dedendum * 1e-3,
+        }),
+    };
+    let g = match Groove::new(size) {
+        Ok(g) => g,
+        Err(GrooveError::Undercut { needed_teeth }) => {
+            return Err(c.invalid(
+                "specimen.teeth",
+                format!(
+                    "{teeth} teeth: the cutter would undercut the flanks (not modelled); use \
+                     teeth >= {needed_teeth}, or a smaller dedendum_mm (a positive profile \
+                     shift)"
+                ),
+            ));
+        }
+        Err(GrooveError::GearTooSmall { why }) => {
+            return Err(c.invalid("specimen.teeth", format!("{teeth} teeth: {why}")));
+        }
+        Err(GrooveError::TooShallow { .. } | GrooveError::PitchTooSmall { .. }) => {
+            return Err(c.invalid(
+                "specimen.edge_radius_mm",
+                format!(
+                    "tip edges of {} mm and root fillets of {} mm do not fit a tooth of \
+                     module {}: make them smaller",
+                    num(edge_radius),
+                    num(radius),
+                    num(m)
+                ),
+            ));
+        }
+    };
+    // Hertz's contact on a convex surface needs it no sharper than the shot (as on a
+    // groove's edges): the involute is sharpest where the fillets end.
+    let flank = g.gear().map(|g| g.flank_radius()).unwrap_or(f64::INFINITY);
+    if flank < r_max {
+        return Err(c.invalid(
+            "specimen.teeth",
+            format!(
+                "{teeth} teeth: the flanks' radius of curvature where the fillets end is {} mm, \
+                 below the largest shot's radius ({} mm; Hertz's contact is not modelled on a \
+                 sharper convex surface): use more teeth or a smaller dedendum_mm",
+                num(flank * 1e3),
+                num(r_mm)
+            ),
+        ));
+    }
+    Ok(crate::contact::specimen::SpecimenShape::Groove(
+        std::sync::Arc::new(g),
+    ))
 }
 
 fn bound(x: f64) -> String {
@@ -682,6 +851,27 @@ impl SceneFile {
             ("specimen.pitch_mm", sf.pitch_mm.is_some()),
             ("specimen.offset_mm", sf.offset_mm.is_some()),
         ];
+        let gear_keys = [
+            ("specimen.teeth", sf.teeth.is_some()),
+            ("specimen.module_mm", sf.module_mm.is_some()),
+            (
+                "specimen.pressure_angle_deg",
+                sf.pressure_angle_deg.is_some(),
+            ),
+            ("specimen.addendum_mm", sf.addendum_mm.is_some()),
+            ("specimen.dedendum_mm", sf.dedendum_mm.is_some()),
+        ];
+        if sf.shape != "gear"
+            && let Some((key, _)) = gear_keys.iter().find(|(_, given)| *given)
+        {
+            return Err(c.invalid(
+                key,
+                format!(
+                    "only a gear has this dimension: set shape = \"gear\" (shape is \"{}\")",
+                    sf.shape
+                ),
+            ));
+        }
         let specimen_shape = match sf.shape.as_str() {
             "plane" => {
                 for (key, given) in [
@@ -694,8 +884,8 @@ impl SceneFile {
                     if given {
                         return Err(c.invalid(
                             key,
-                            "the flat specimen has no dimensions: set shape = \"cylinder\" or \
-                             \"groove\", or leave the key out for the flat specimen",
+                            "the flat specimen has no dimensions: set shape = \"cylinder\", \
+                             \"groove\" or \"gear\", or leave the key out for the flat specimen",
                         ));
                     }
                 }
@@ -738,11 +928,29 @@ impl SceneFile {
                 crate::contact::specimen::SpecimenShape::cylinder(radius, axis.to_radians())
             }
             "groove" => groove(&c, sf, 0.5 * sizes.max_diameter())?,
+            "gear" => {
+                for (key, given) in [
+                    ("specimen.bottom_mm", sf.bottom_mm.is_some()),
+                    ("specimen.flank_deg", sf.flank_deg.is_some()),
+                    ("specimen.depth_mm", sf.depth_mm.is_some()),
+                    ("specimen.pitch_mm", sf.pitch_mm.is_some()),
+                ] {
+                    if given {
+                        return Err(c.invalid(
+                            key,
+                            "a gear's tooth spaces follow from module_mm, teeth, \
+                             pressure_angle_deg, addendum_mm, dedendum_mm, radius_mm (root \
+                             fillets) and edge_radius_mm (tip edges): leave this key out",
+                        ));
+                    }
+                }
+                gear(&c, sf, 0.5 * sizes.max_diameter())?
+            }
             other => {
                 return Err(c.invalid(
                     "specimen.shape",
                     format!(
-                        "unknown value \"{other}\"; allowed: \"plane\", \"cylinder\", \"groove\""
+                        "unknown value \"{other}\"; allowed: \"plane\", \"cylinder\", \"groove\", \"gear\""
                     ),
                 ));
             }
@@ -751,11 +959,16 @@ impl SceneFile {
         if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape {
             let depth = g.size().depth;
             if nozzle.standoff * angle.sin() - rim <= depth {
+                let (what, key) = if g.gear().is_some() {
+                    ("gear's tooth tips", "addendum_mm + dedendum_mm")
+                } else {
+                    ("groove's lands", "depth_mm")
+                };
                 return Err(c.invalid(
                     "nozzle.standoff_mm",
                     format!(
-                        "{} mm at angle_deg = {} puts the exit's rim {} mm below the groove's \
-                         lands (specimen.depth_mm = {}): use standoff_mm > {} mm",
+                        "{} mm at angle_deg = {} puts the exit's rim {} mm below the {what} \
+                         (specimen.{key} = {}): use standoff_mm > {} mm",
                         num(n.standoff_mm),
                         num(n.angle_deg),
                         num((depth + rim - nozzle.standoff * angle.sin()) * 1e3),
@@ -959,11 +1172,22 @@ impl SceneFile {
                 if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape
                     && lo[2] < g.size().depth + r_max
                 {
+                    let (what, key) = if g.gear().is_some() {
+                        (
+                            "gear's teeth: a box is placed above their tips",
+                            "addendum_mm + dedendum_mm",
+                        )
+                    } else {
+                        (
+                            "groove's teeth: a box is placed above the lands",
+                            "depth_mm",
+                        )
+                    };
                     return Err(c.invalid(
                         &format!("{k}.min_mm"),
                         format!(
-                            "min_mm[2] puts shots into the groove's teeth: a box is placed above \
-                             the lands, keep it >= depth_mm + the shot radius = {} mm",
+                            "min_mm[2] puts shots into the {what}, keep it >= {key} + the shot \
+                             radius = {} mm",
                             num((g.size().depth + r_max) * 1e3)
                         ),
                     ));

@@ -1,0 +1,307 @@
+//! A spur gear (`[specimen] shape = "gear"`, beyond the paper), against theory. The
+//! test computes the gear's surface from textbook gear geometry, not from the library's
+//! pieces:
+//! * the flank at the pitch circle: a standard gear's tooth space is half the circular
+//!   pitch wide there (`tau / 4` either side of its middle), and the involute's normal
+//!   makes the pressure angle with the pitch circle's tangent;
+//! * the root fillet where the rack's rounded tooth corner cuts it with its contact
+//!   normal at 45 degrees: by the law of gearing that normal runs through the pitch
+//!   point, which fixes the rolling angle;
+//! * the root and the tip circles, and the tip edge's circle, `rho_e` from both the
+//!   tip circle and the flank.
+//!
+//! Shots thrown along the normal at each of them, on both sides of a tooth space and
+//! in the next one, on the gear as cut and turned, rebound straight back with the
+//! restitution and are recorded at the point aimed at; a nozzle stream hits every zone,
+//! the same on one and two threads, and leaves no shot inside the gear; a gear that
+//! cannot be cut, or keys of other shapes, are refused with the key named.
+
+mod common;
+use common::*;
+use peenflow::Vec3;
+use peenflow::scene::Scene;
+use std::f64::consts::PI;
+
+/// Shot radius, mm.
+const R: f64 = 0.4;
+/// The test gear, mm, degrees: teeth, module, pressure angle, root fillet radius (the
+/// rack's corner), tip edge radius; standard addendum (1 m) and dedendum (1.25 m).
+const TEETH: f64 = 24.0;
+const MODULE: f64 = 2.0;
+const ALPHA: f64 = 20.0;
+const FILLET: f64 = 0.76;
+const EDGE: f64 = 0.4;
+
+fn gear_lines(offset: f64) -> String {
+    format!(
+        "[specimen]\nshape = \"gear\"\nteeth = {TEETH}\nmodule_mm = {MODULE:?}\n\
+         pressure_angle_deg = {ALPHA:?}\nradius_mm = {FILLET:?}\nedge_radius_mm = {EDGE:?}\n\
+         offset_mm = {offset:?}\n"
+    )
+}
+
+/// A scene without air or gravity onto `specimen`, restitution 0.7, with `shots`
+/// (position mm, velocity m/s).
+fn scene(specimen: &str, shots: &[(Vec3, Vec3)], duration_ms: f64) -> Scene {
+    let mut s = format!(
+        "duration_ms = {duration_ms:?}\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\n\
+         lateral_force = false\n{specimen}[shots]\ndiameter_mm = {}\n\
+         [shots.feed]\ntype = \"list\"\n",
+        2.0 * R
+    );
+    for (p, v) in shots {
+        s += &format!(
+            "[[shots.feed.shots]]\nposition_mm = [{:?}, {:?}, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
+            p.x, p.y, p.z, v.x, v.y, v.z
+        );
+    }
+    Scene::from_toml(&s, "gear.toml").unwrap()
+}
+
+/// A point or direction in the half frame of a tooth space: `x` towards its right
+/// flank, `y` from the gear's centre through the space's middle, mm.
+type Point = (f64, f64);
+
+/// Surface points and outward normals (half frame) in the middle of the root, on the
+/// fillet, the flank at the pitch circle, the tip edge and the tooth tip's middle.
+fn zone_points() -> Vec<(&'static str, Point, Point)> {
+    let z = TEETH;
+    let tau = 2.0 * PI / z;
+    let a = ALPHA.to_radians();
+    let r_p = z * MODULE / 2.0;
+    let (hf, ha) = (1.25 * MODULE, MODULE);
+    let (r_f, r_a, r_b) = (r_p - hf, r_p + ha, r_p * a.cos());
+    // The rack's tooth (the gear's space) is half a pitch wide at its pitch line: its
+    // flat tip's half width between the corners of radius FILLET.
+    let p = PI * MODULE;
+    let hb = p / 4.0 - (hf - FILLET * (1.0 - a.sin())) * a.tan() - FILLET * a.cos();
+    // Rolling the rack by `phi` puts the pitch point at (r_p phi, r_p) in its frame;
+    // gear frame = rack frame less (r_p phi, 0), turned by phi towards +x.
+    let to_gear = |q: Point, phi: f64| {
+        let (x, y) = (q.0 - r_p * phi, q.1);
+        (
+            x * phi.cos() + y * phi.sin(),
+            -x * phi.sin() + y * phi.cos(),
+        )
+    };
+    let turn = |v: Point, phi: f64| {
+        (
+            v.0 * phi.cos() + v.1 * phi.sin(),
+            -v.0 * phi.sin() + v.1 * phi.cos(),
+        )
+    };
+    // Fillet: the corner (centre (hb, r_f + FILLET)) touching with its normal 45
+    // degrees off straight down; the normal runs through the pitch point.
+    let theta = 45f64.to_radians();
+    let nu = (theta.sin(), -theta.cos());
+    let centre = (hb, r_f + FILLET);
+    let t = (r_p - centre.1) / theta.cos();
+    let phi = (centre.0 - t * theta.sin()) / r_p;
+    let fillet = to_gear((centre.0 + FILLET * nu.0, centre.1 + FILLET * nu.1), phi);
+    let fillet_n = turn((-nu.0, -nu.1), phi);
+    // Flank at the pitch circle: a quarter pitch angle off the middle; the normal is
+    // the pitch circle's tangent turned by the pressure angle towards the space's
+    // middle and out.
+    let ap = tau / 4.0;
+    let flank = (r_p * ap.sin(), r_p * ap.cos());
+    let psi = ap + a;
+    let flank_n = (-psi.cos(), psi.sin());
+    // Tip edge: centre EDGE inside the tip circle and the involute. The involute's
+    // start angle on the base circle, from the flank at the pitch circle.
+    let a_b = ap - (a.tan() - a);
+    let q = ((r_a - EDGE).powi(2) - r_b * r_b).sqrt();
+    let beta = (q + EDGE) / r_b;
+    let psi_e = a_b + beta;
+    let e = (
+        r_b * psi_e.sin() - q * psi_e.cos(),
+        r_b * psi_e.cos() + q * psi_e.sin(),
+    );
+    // Halfway between the flank's normal there and the radial direction through e.
+    let from = psi_e - PI / 2.0;
+    let to = e.0.atan2(e.1);
+    let mid = 0.5 * (from + to);
+    let edge = (e.0 + EDGE * mid.sin(), e.1 + EDGE * mid.cos());
+    let edge_n = (mid.sin(), mid.cos());
+    let root_a = 0.5 * hb / r_p;
+    vec![
+        (
+            "bottom",
+            (r_f * root_a.sin(), r_f * root_a.cos()),
+            (root_a.sin(), root_a.cos()),
+        ),
+        ("fillet", fillet, fillet_n),
+        ("flank", flank, flank_n),
+        ("edge", edge, edge_n),
+        (
+            "land",
+            (r_a * (tau / 2.0).sin(), r_a * (tau / 2.0).cos()),
+            ((tau / 2.0).sin(), (tau / 2.0).cos()),
+        ),
+    ]
+}
+
+/// Each zone's point on the right and the left of the tooth space under the jet and
+/// on the right of the next one, with the gear turned by `offset` mm of pitch-circle
+/// arc, 4 mm apart along the axis: (zone, point mm, normal) in the world (axis along
+/// y, `across` = +x, the root circle's top at the origin before turning).
+fn aimed_points(offset: f64) -> Vec<(&'static str, Vec3, Vec3)> {
+    let tau = 2.0 * PI / TEETH;
+    let r_p = TEETH * MODULE / 2.0;
+    let r_f = r_p - 1.25 * MODULE;
+    let mut out = Vec::new();
+    for (name, (x, y), (nx, ny)) in zone_points() {
+        for (side, k) in [(1.0, 0.0), (-1.0, 0.0), (1.0, 1.0)] {
+            let r = offset / r_p + k * tau;
+            let world = |v: Point| {
+                let vx = side * v.0;
+                (vx * r.cos() + v.1 * r.sin(), -vx * r.sin() + v.1 * r.cos())
+            };
+            let (ps, pz) = world((x, y));
+            let (ns, nz) = world((nx, ny));
+            let along = 4.0 * out.len() as f64;
+            out.push((name, Vec3::new(ps, along, pz - r_f), Vec3::new(ns, 0.0, nz)));
+        }
+    }
+    out
+}
+
+#[test]
+fn shots_thrown_along_the_normal_rebound_straight_back_in_every_zone_of_a_gear() {
+    for offset in [0.0, 1.3] {
+        for speed in [10.0, 60.0] {
+            let aimed = aimed_points(offset);
+            let shots: Vec<(Vec3, Vec3)> = aimed
+                .iter()
+                .map(|(_, p, n)| (p + n * (R + 0.3), n * -speed))
+                .collect();
+            let out = run_scene(&scene(&gear_lines(offset), &shots, 0.05));
+            assert!(out.events.is_empty(), "{:?}", out.events);
+            assert_eq!(out.impacts.len(), shots.len(), "offset {offset}");
+            let mut worst: f64 = 0.0;
+            for (s, (zone, _, n)) in out.shots.iter().zip(&aimed) {
+                assert_eq!(s.hits, 1, "{zone}");
+                let back = s.vel.dot(n);
+                let err = (back / (0.7 * speed) - 1.0).abs();
+                println!("offset {offset} {speed} m/s {zone}: {err:.2e}");
+                worst = worst.max(err);
+                let sideways = (s.vel - n * back).norm();
+                assert!(sideways < 1e-8 * speed, "{zone}: sideways {sideways:e}");
+            }
+            assert!(worst < 2e-5, "offset {offset} at {speed} m/s: {worst:e}");
+            for imp in &out.impacts {
+                let (zone, p, n) = &aimed[imp.shot as usize];
+                let point = Vec3::new(imp.x_m, imp.y_m, imp.z_m) * 1e3;
+                assert!((point - p).norm() < 1e-8, "{zone}: {point:?} vs {p:?}");
+                let centre = Vec3::new(imp.center_x_m, imp.center_y_m, imp.center_z_m) * 1e3;
+                assert!(((centre - point) - n * R).norm() < 1e-8, "{zone}");
+                assert!((imp.normal_speed_m_s / speed - 1.0).abs() < 1e-9, "{imp:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_stream_onto_a_gear_hits_every_zone_and_is_the_same_on_one_and_two_threads() {
+    // (Turned by a quarter pitch: a tooth's tip under the jet's edge.)
+    let text = format!(
+        "duration_ms = 8.0\n{}[shots.feed]\ntype = \"stream\"\nrate_per_s = 20000.0\n",
+        gear_lines(1.5)
+    );
+    let scene = Scene::from_toml(&text, "gear_stream.toml").unwrap();
+    let said = &scene.effects().decisions[3];
+    assert!(
+        said.reason.ends_with(
+            "; a spur gear of 24 teeth, module 2 mm, pressure angle 20 degrees, root, pitch \
+             and tip circles 43 / 48 / 52 mm in diameter, root fillets cut by a 0.76 mm tool \
+             radius, tip edges of 0.4 mm, its axis at 90 degrees from +x, turned 1.5 mm along \
+             its pitch circle from a tooth space's middle under the jet axis' foot"
+        ),
+        "{}",
+        said.reason
+    );
+    let one = run_scene_on(1, &scene);
+    let two = run_scene_on(2, &scene);
+    assert_eq!(one.impacts, two.impacts);
+    assert_eq!(one.shots, two.shots);
+    assert!(one.events.is_empty(), "{:?}", one.events);
+    let shape = scene.specimen_shape;
+    let peenflow::contact::specimen::SpecimenShape::Groove(g) = &shape else {
+        panic!("not a gear")
+    };
+    assert_eq!(g.gear().map(|g| g.teeth()), Some(24));
+    let mut zones = std::collections::BTreeMap::new();
+    for i in &one.impacts {
+        let p = Vec3::new(i.x_m, i.y_m, i.z_m);
+        assert!(shape.distance(&p).abs() < 1e-12, "{p:?}");
+        assert!(i.normal_speed_m_s > 0.0 && i.normal_speed_m_s <= i.speed_m_s);
+        *zones.entry(g.zone(&p).name()).or_insert(0) += 1;
+    }
+    println!("{} shots, impacts per zone {zones:?}", one.shots.len());
+    for zone in ["bottom", "fillet", "flank", "edge", "land"] {
+        assert!(
+            zones.get(zone).copied().unwrap_or(0) > 0,
+            "{zone}: {zones:?}"
+        );
+    }
+    for s in &one.shots {
+        assert!(
+            shape.distance(&s.pos) > s.body.radius * (1.0 - 1e-3),
+            "shot {} inside",
+            s.id.0
+        );
+    }
+}
+
+#[test]
+fn gears_that_cannot_be_cut_and_keys_of_other_shapes_are_refused() {
+    let err = |specimen: &str| {
+        Scene::from_toml(
+            &format!("[shots]\ndiameter_mm = 0.8\n{specimen}"),
+            "bad.toml",
+        )
+        .unwrap_err()
+        .to_string()
+    };
+    let cases = [
+        (
+            "[specimen]\nshape = \"gear\"\nmodule_mm = 2.0\n",
+            "specimen.teeth",
+            "needs teeth",
+        ),
+        (
+            "[specimen]\nshape = \"gear\"\nteeth = 12\nmodule_mm = 2.0\n",
+            "specimen.teeth",
+            "undercut the flanks (not modelled); use teeth >= 18",
+        ),
+        (
+            "[specimen]\nshape = \"gear\"\nteeth = 24\nmodule_mm = 2.0\naddendum_mm = 3.9\n",
+            "specimen.teeth",
+            "come to a point",
+        ),
+        (
+            "[specimen]\nshape = \"gear\"\nteeth = 24\nmodule_mm = 2.0\ndepth_mm = 4.5\n",
+            "specimen.depth_mm",
+            "leave this key out",
+        ),
+        (
+            "[specimen]\nshape = \"groove\"\nradius_mm = 1.0\ndepth_mm = 4.0\nteeth = 24\n",
+            "specimen.teeth",
+            "only a gear has this dimension",
+        ),
+        (
+            "[specimen]\nshape = \"gear\"\nteeth = 24\nmodule_mm = 2.0\nradius_mm = 1.2\n",
+            "specimen.radius_mm",
+            "use radius_mm <=",
+        ),
+        (
+            "[specimen]\nshape = \"gear\"\nteeth = 24\nmodule_mm = 1.0\n",
+            "specimen.radius_mm",
+            "from 1.5 times the largest shot's radius",
+        ),
+    ];
+    for (text, key, what) in cases {
+        let e = err(text);
+        assert!(e.contains(key) && e.contains(what), "{text}: {e}");
+        assert!(e.contains("bad.toml"), "{e}");
+    }
+}
