@@ -1186,3 +1186,105 @@ fn calculix_impacts_in_a_groove_rebound_along_their_normals() {
         assert!(normal > 0.0 && sideways < 0.03 * normal, "{row:?}");
     }
 }
+
+/// The fillet and the flank (at the pitch circle) of a 30-tooth module 4 gear, surface
+/// points and outward normals `(s, z)` in the world, mm, from textbook gear geometry
+/// (`common::gear_zone_points`).
+fn gear_targets() -> Vec<Aim> {
+    let r_f = 60.0 - 5.0;
+    gear_zone_points(30.0, 4.0, 20.0, 1.52, 0.8)
+        .into_iter()
+        .filter(|(zone, _, _)| matches!(*zone, "fillet" | "flank"))
+        .map(|(_, (x, y), n)| ((x, y - r_f), n))
+        .collect()
+}
+
+fn gear_scene(targets: &[Aim]) -> String {
+    groove_scene(targets).replace(
+        "shape = \"groove\"\nradius_mm = 1.2\nbottom_mm = 1.0\nflank_deg = 20.0\ndepth_mm = 5.0\n\
+         edge_radius_mm = 0.6\n",
+        "shape = \"gear\"\nteeth = 30\nmodule_mm = 4.0\n",
+    )
+}
+
+/// On a gear the target block follows the involute and the fillet: its top face on the
+/// surface, its bottom face 2.5 shot radii under it along the normals; the header names
+/// the gear and where its centre is; each shot touches at the point aimed at; ccx (if
+/// installed) rebounds each along its own normal, as in a groove.
+#[test]
+fn decks_of_a_gear_lay_the_target_under_its_involute_and_fillet() {
+    let tmp = tempfile::tempdir().unwrap();
+    let targets = gear_targets();
+    let text = gear_scene(&targets);
+    assert!(text.contains("shape = \"gear\""), "{text}");
+    let (impacts, scene) = run_bar(tmp.path(), &text);
+    assert_eq!(impacts.len(), 2);
+    let model = deck::build(&impacts, &bar_settings(&scene)).unwrap();
+    let shape = scene.specimen_shape;
+    let peenflow::contact::specimen::SpecimenShape::Groove(g) = &shape else {
+        panic!("not a gear")
+    };
+    let (o, _) = g.point_at(model.origin[0] * 1e-3, model.origin[1] * 1e-3);
+    let head: Vec<f64> = model
+        .geometry
+        .trim_start_matches("gear Z = 30, m = 4, axis y, centre at x,z = ")
+        .split(", ")
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(
+        (head[0] + o.x * 1e3).abs() < 1e-4 && (head[1] - (-55.0 - o.z * 1e3)).abs() < 1e-4,
+        "{}",
+        model.geometry
+    );
+    let k = deck::render(&model, "lsdyna", DeckFormat::LsDyna.builtin_template()).unwrap();
+    assert!(k.lines().all(|l| l.len() <= 80), "a line over 80 columns");
+    let world = |x: f64, y: f64, z: f64| {
+        peenflow::Vec3::new(x * 1e-3 + o.x, y * 1e-3 + o.y, z * 1e-3 + o.z)
+    };
+    let node = |id: u32| {
+        let n = &model.nodes[(id - 1) as usize];
+        world(n.x, n.y, n.z)
+    };
+    for f in &model.target.top {
+        for id in model.mesh.face_nodes(*f) {
+            assert!(shape.distance(&node(id)).abs() < 1e-12, "top node {id}");
+        }
+    }
+    for &id in &model.target.bottom {
+        let d = shape.distance(&node(id));
+        assert!((d + 1e-3).abs() < 1e-11, "bottom node {id}: {d}");
+    }
+    for (sh, ((ps, pz), (ns, nz))) in model.shots.iter().zip(&targets) {
+        let [x, y, z] = sh.contact_centre;
+        let c = world(x, y, z);
+        let want = peenflow::Vec3::new(ps + 0.4 * ns, 0.0, pz + 0.4 * nz) * 1e-3;
+        assert!((c - want).norm() < 1e-11, "{c:?} vs {want:?}");
+    }
+    if !have("ccx", &["-v"]) {
+        return;
+    }
+    let o = peenflow(
+        &[
+            "export",
+            "run/impacts.h5",
+            "--out",
+            "deck",
+            "--format",
+            "calculix",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = run_ccx(&tmp.path().join("deck"));
+    check_ccx_physics(&r, &impacts);
+    let v = series(&r, "velocities (vx,vy,vz) for set REFNODES");
+    for (row, (_, (ns, nz))) in v.last().unwrap().rows.iter().zip(&targets) {
+        let normal = row[1] * ns + row[3] * nz;
+        let sideways = (row[1] * nz - row[3] * ns).hypot(row[2]);
+        println!(
+            "gear, shot along ({ns:.3}, {nz:.3}): rebound {normal:.0} mm/s, sideways {sideways:.0} ({:.2} %)",
+            100.0 * sideways / normal
+        );
+        assert!(normal > 0.0 && sideways < 0.03 * normal, "{row:?}");
+    }
+}

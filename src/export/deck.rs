@@ -1091,11 +1091,20 @@ impl Bend {
                 "bar R = {}, axis y, top at origin; target bent under it",
                 n(b.radius)
             ),
-            Bend::Groove(g) => format!(
-                "groove along y, bottom middle at x,z = {}, {}",
-                n(g.groove.size().offset - g.origin.0),
-                n(-g.origin.1)
-            ),
+            Bend::Groove(g) => match g.groove.gear() {
+                Some(gear) => format!(
+                    "gear Z = {}, m = {}, axis y, centre at x,z = {}, {}",
+                    gear.teeth(),
+                    n(g.groove.size().pitch.unwrap_or(0.0) / std::f64::consts::PI),
+                    n(-g.origin.0),
+                    n(-gear.radii().1 - g.origin.1)
+                ),
+                None => format!(
+                    "groove along y, bottom middle at x,z = {}, {}",
+                    n(g.groove.size().offset - g.origin.0),
+                    n(-g.origin.1)
+                ),
+            },
         }
     }
 }

@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+use std::f64::consts::PI;
+
 use peenflow::Vec3;
 use peenflow::contact::{ContactSet, HertzLaw, PairContact, SpecimenContact};
 use peenflow::forces::{ForceSet, ShotBody};
@@ -268,4 +270,100 @@ pub fn run_scene_on(threads: usize, scene: &peenflow::scene::Scene) -> peenflow:
         .build()
         .unwrap()
         .install(|| run_scene(scene))
+}
+
+/// A point or direction in the half frame of a tooth space: `x` towards its right
+/// flank, `y` from the gear's centre through the space's middle, mm.
+pub type Point = (f64, f64);
+
+/// Surface points and outward normals (half frame, mm) of a standard spur gear
+/// (`teeth`, `module` mm, pressure angle `alpha_deg`, cut by a rack with corners of
+/// `fillet` mm, tip edges of `edge` mm; addendum 1 and dedendum 1.25 modules), from
+/// textbook gear geometry: in the middle of the root, on the fillet where the rack's
+/// corner cuts it with its normal 45 degrees off straight down (the law of gearing fixes
+/// the rolling angle: the normal runs through the pitch point), the flank at the pitch
+/// circle (a quarter of the angular pitch off the space's middle, its normal the pitch
+/// circle's tangent turned by the pressure angle), the tip edge's middle and the tooth
+/// tip's middle.
+#[allow(non_snake_case)]
+pub fn gear_zone_points(
+    teeth: f64,
+    module: f64,
+    alpha_deg: f64,
+    fillet: f64,
+    edge: f64,
+) -> Vec<(&'static str, Point, Point)> {
+    let (z, MODULE, ALPHA, FILLET, EDGE) = (teeth, module, alpha_deg, fillet, edge);
+    let tau = 2.0 * PI / z;
+    let a = ALPHA.to_radians();
+    let r_p = z * MODULE / 2.0;
+    let (hf, ha) = (1.25 * MODULE, MODULE);
+    let (r_f, r_a, r_b) = (r_p - hf, r_p + ha, r_p * a.cos());
+    // The rack's tooth (the gear's space) is half a pitch wide at its pitch line: its
+    // flat tip's half width between the corners of radius FILLET.
+    let p = PI * MODULE;
+    let hb = p / 4.0 - (hf - FILLET * (1.0 - a.sin())) * a.tan() - FILLET * a.cos();
+    // Rolling the rack by `phi` puts the pitch point at (r_p phi, r_p) in its frame;
+    // gear frame = rack frame less (r_p phi, 0), turned by phi towards +x.
+    let to_gear = |q: Point, phi: f64| {
+        let (x, y) = (q.0 - r_p * phi, q.1);
+        (
+            x * phi.cos() + y * phi.sin(),
+            -x * phi.sin() + y * phi.cos(),
+        )
+    };
+    let turn = |v: Point, phi: f64| {
+        (
+            v.0 * phi.cos() + v.1 * phi.sin(),
+            -v.0 * phi.sin() + v.1 * phi.cos(),
+        )
+    };
+    // Fillet: the corner (centre (hb, r_f + FILLET)) touching with its normal 45
+    // degrees off straight down; the normal runs through the pitch point.
+    let theta = 45f64.to_radians();
+    let nu = (theta.sin(), -theta.cos());
+    let centre = (hb, r_f + FILLET);
+    let t = (r_p - centre.1) / theta.cos();
+    let phi = (centre.0 - t * theta.sin()) / r_p;
+    let fillet = to_gear((centre.0 + FILLET * nu.0, centre.1 + FILLET * nu.1), phi);
+    let fillet_n = turn((-nu.0, -nu.1), phi);
+    // Flank at the pitch circle: a quarter pitch angle off the middle; the normal is
+    // the pitch circle's tangent turned by the pressure angle towards the space's
+    // middle and out.
+    let ap = tau / 4.0;
+    let flank = (r_p * ap.sin(), r_p * ap.cos());
+    let psi = ap + a;
+    let flank_n = (-psi.cos(), psi.sin());
+    // Tip edge: centre EDGE inside the tip circle and the involute. The involute's
+    // start angle on the base circle, from the flank at the pitch circle.
+    let a_b = ap - (a.tan() - a);
+    let q = ((r_a - EDGE).powi(2) - r_b * r_b).sqrt();
+    let beta = (q + EDGE) / r_b;
+    let psi_e = a_b + beta;
+    let e = (
+        r_b * psi_e.sin() - q * psi_e.cos(),
+        r_b * psi_e.cos() + q * psi_e.sin(),
+    );
+    // Halfway between the flank's normal there and the radial direction through e.
+    let from = psi_e - PI / 2.0;
+    let to = e.0.atan2(e.1);
+    let mid = 0.5 * (from + to);
+    let edge = (e.0 + EDGE * mid.sin(), e.1 + EDGE * mid.cos());
+    let edge_n = (mid.sin(), mid.cos());
+    let root_a = 0.5 * hb / r_p;
+    vec![
+        (
+            "bottom",
+            (r_f * root_a.sin(), r_f * root_a.cos()),
+            (root_a.sin(), root_a.cos()),
+        ),
+        ("fillet", fillet, fillet_n),
+        ("flank", flank, flank_n),
+        ("edge", edge, edge_n),
+        (
+            "land",
+            (r_a * (tau / 2.0).sin(), r_a * (tau / 2.0).cos()),
+            ((tau / 2.0).sin(), (tau / 2.0).cos()),
+        ),
+    ]
 }
