@@ -14,7 +14,9 @@
 //! in the next one, on the gear as cut and turned, rebound straight back with the
 //! restitution and are recorded at the point aimed at; a nozzle stream hits every zone,
 //! the same on one and two threads, and leaves no shot inside the gear; a gear that
-//! cannot be cut, or keys of other shapes, are refused with the key named.
+//! cannot be cut, or keys of other shapes, are refused with the key named; a turning
+//! gear's coverage takes runs on the gear (its teeth checked, a rack's run refused
+//! among them, the zones tiling the gear's own period).
 
 mod common;
 use common::*;
@@ -227,4 +229,73 @@ fn gears_that_cannot_be_cut_and_keys_of_other_shapes_are_refused() {
         assert!(e.contains(key) && e.contains(what), "{text}: {e}");
         assert!(e.contains("bad.toml"), "{e}");
     }
+}
+
+/// A turning gear's coverage from runs on the gear itself (`peenflow coverage
+/// --gear-teeth`): its teeth must be the gear's, and a rack's run does not mix with the
+/// gear's; with the right teeth the profile's period is the gear's own.
+#[test]
+fn a_turning_gears_coverage_takes_runs_on_the_gear() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let stream = "duration_ms = 4.0\n[shots.feed]\ntype = \"stream\"\nrate_per_s = 20000.0\n";
+    let rack = "[specimen]\nshape = \"groove\"\nradius_mm = 0.76\nbottom_mm = 0.5\n\
+                flank_deg = 20.0\ndepth_mm = 4.5\nedge_radius_mm = 0.4\npitch_mm = 6.283\n";
+    for (name, text) in [
+        ("a", format!("{stream}{}", gear_lines(0.0))),
+        ("b", format!("{stream}{}", gear_lines(2.5))),
+        ("r", format!("{stream}{rack}")),
+    ] {
+        std::fs::write(dir.join(format!("{name}.toml")), text).unwrap();
+        let o = peenflow(&["run", &format!("{name}.toml"), "--out", name, "-q"], dir);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let cov = |files: &[&str], teeth: &str, out: &str| {
+        let mut args = vec!["coverage"];
+        args.extend(files);
+        args.extend(["--gear-teeth", teeth, "--traverse-mm-s", "1", "--out", out]);
+        peenflow(&args, dir)
+    };
+    let o = cov(&["a/impacts.h5", "b/impacts.h5"], "23", "wrong");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(
+            "--gear-teeth 23: the runs' gear has 24 teeth ([specimen] teeth); give --gear-teeth 24"
+        ),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let written = |out: &str| {
+        std::fs::read_dir(dir.join(out))
+            .map(|d| d.count())
+            .unwrap_or(0)
+    };
+    assert_eq!(written("wrong"), 0);
+    let o = cov(&["a/impacts.h5", "r/impacts.h5"], "24", "mixed");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("differs from") && err.contains("in more than offset_mm"),
+        "{err}"
+    );
+    assert_eq!(written("mixed"), 0);
+    let o = cov(&["a/impacts.h5", "b/impacts.h5"], "24", "cov");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("cov/gear.json")).unwrap()).unwrap();
+    println!("{}", serde_json::to_string_pretty(&json["zones"]).unwrap());
+    // The zones tile the gear's period, the arc over one tooth space and one tooth.
+    let (_, scene) = peenflow::export::read_impact_file(&dir.join("a/impacts.h5")).unwrap();
+    let peenflow::contact::specimen::SpecimenShape::Groove(g) = &scene.specimen_shape else {
+        panic!("not a gear")
+    };
+    let period = g.period_arc().unwrap();
+    let total: f64 = json["zones"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|z| z["arc_m"].as_f64().unwrap())
+        .sum();
+    assert!((total - period).abs() < 1e-9, "{total} against {period}");
 }
