@@ -221,6 +221,10 @@ pub struct Summary {
     /// fillet, flank, edge, land), from the bottom up.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub zones: Vec<ZoneStats>,
+    /// The grooved specimen is a gear (for the report's words; summary.json's
+    /// `zones` and `across_m` are the same on both).
+    #[serde(skip)]
+    pub on_gear: bool,
     /// Normal impact speed of first hits in 5 m/s bins (paper Figure 12).
     pub normal_speed_histogram: Histogram,
     /// Impact radius of first hits in 5 mm bins (paper Figure 13).
@@ -392,6 +396,7 @@ impl SummaryBuilder {
                 SpecimenShape::Groove(_) => Stats::of(&self.around),
                 _ => None,
             },
+            on_gear: matches!(&self.shape, SpecimenShape::Groove(g) if g.gear().is_some()),
             zones: match self.shape {
                 SpecimenShape::Groove(_) => crate::contact::groove::Zone::ALL
                     .iter()
@@ -519,12 +524,14 @@ impl Summary {
                 r.max * 1e3
             );
         }
+        let across = if self.on_gear {
+            "across the teeth, mm of arc from the tooth space's middle"
+        } else {
+            "across the groove, mm of arc from its middle"
+        };
         for (a, what) in [
             (&self.around_m, "around the bar, mm of arc from its crest"),
-            (
-                &self.across_m,
-                "across the groove, mm of arc from its middle",
-            ),
+            (&self.across_m, across),
         ] {
             if let Some(a) = a {
                 let _ = writeln!(
@@ -542,7 +549,8 @@ impl Summary {
         if !self.zones.is_empty() {
             let _ = writeln!(
                 s,
-                "groove zones:  first hits  impacts  normal speed m/s (first hits): mean  p10  p90  incidence deg: mean  p90"
+                "{} zones:  first hits  impacts  normal speed m/s (first hits): mean  p10  p90  incidence deg: mean  p90",
+                if self.on_gear { "gear" } else { "groove" }
             );
             for z in &self.zones {
                 let _ = write!(s, "  {:<8} {:>10} {:>8}", z.zone, z.first_hits, z.impacts);
