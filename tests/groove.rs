@@ -267,31 +267,7 @@ fn a_stream_onto_a_rack_hits_every_zone_and_is_the_same_on_one_and_two_threads()
     assert_eq!(one.impacts, two.impacts);
     assert_eq!(one.shots, two.shots);
     assert!(one.events.is_empty(), "{:?}", one.events);
-    let shape = scene.specimen_shape;
-    let peenflow::contact::specimen::SpecimenShape::Groove(g) = &shape else {
-        panic!("not a groove")
-    };
-    let mut zones = std::collections::BTreeMap::new();
-    for i in &one.impacts {
-        let p = Vec3::new(i.x_m, i.y_m, i.z_m);
-        assert!(shape.distance(&p).abs() < 1e-12, "{p:?}");
-        assert!(i.normal_speed_m_s > 0.0 && i.normal_speed_m_s <= i.speed_m_s);
-        *zones.entry(g.zone(&p).name()).or_insert(0) += 1;
-    }
-    println!("{} shots, impacts per zone {zones:?}", one.shots.len());
-    for zone in ["bottom", "fillet", "flank", "edge", "land"] {
-        assert!(
-            zones.get(zone).copied().unwrap_or(0) > 0,
-            "{zone}: {zones:?}"
-        );
-    }
-    for s in &one.shots {
-        assert!(
-            shape.distance(&s.pos) > s.body.radius * (1.0 - 1e-3),
-            "shot {} inside",
-            s.id.0
-        );
-    }
+    check_every_zone_hit(&one, &scene.specimen_shape);
 }
 
 #[test]

@@ -367,3 +367,36 @@ pub fn gear_zone_points(
         ),
     ]
 }
+
+/// A stream's run onto a groove or a gear (`out`, on `shape`): every impact on the
+/// surface (1e-12 m) with a normal speed in `(0, speed]`, every zone hit, no shot left
+/// inside the part.
+pub fn check_every_zone_hit(
+    out: &peenflow::sim::RunOutput,
+    shape: &peenflow::contact::specimen::SpecimenShape,
+) {
+    let peenflow::contact::specimen::SpecimenShape::Groove(g) = shape else {
+        panic!("not a groove")
+    };
+    let mut zones = std::collections::BTreeMap::new();
+    for i in &out.impacts {
+        let p = Vec3::new(i.x_m, i.y_m, i.z_m);
+        assert!(shape.distance(&p).abs() < 1e-12, "{p:?}");
+        assert!(i.normal_speed_m_s > 0.0 && i.normal_speed_m_s <= i.speed_m_s);
+        *zones.entry(g.zone(&p).name()).or_insert(0) += 1;
+    }
+    println!("{} shots, impacts per zone {zones:?}", out.shots.len());
+    for zone in ["bottom", "fillet", "flank", "edge", "land"] {
+        assert!(
+            zones.get(zone).copied().unwrap_or(0) > 0,
+            "{zone}: {zones:?}"
+        );
+    }
+    for s in &out.shots {
+        assert!(
+            shape.distance(&s.pos) > s.body.radius * (1.0 - 1e-3),
+            "shot {} inside",
+            s.id.0
+        );
+    }
+}
