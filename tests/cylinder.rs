@@ -28,19 +28,9 @@ const R: f64 = 0.4;
 /// A scene without air or gravity onto a bar of `RC` along `axis_deg`, restitution 0.7,
 /// with `shots` (position mm, velocity m/s) and `extra` TOML lines.
 fn bar_scene(shots: &[(Vec3, Vec3)], axis_deg: f64, extra: &str) -> Scene {
-    let mut s = format!(
-        "duration_ms = 0.2\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\nlateral_force = false\n\
-         [specimen]\nshape = \"cylinder\"\nradius_mm = {RC}\naxis_deg = {axis_deg:?}\n\
-         [shots]\ndiameter_mm = {}\n{extra}\n[shots.feed]\ntype = \"list\"\n",
-        2.0 * R
-    );
-    for (p, v) in shots {
-        s += &format!(
-            "[[shots.feed.shots]]\nposition_mm = [{:?}, {:?}, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
-            p.x, p.y, p.z, v.x, v.y, v.z
-        );
-    }
-    Scene::from_toml(&s, "bar.toml").unwrap()
+    let bar =
+        format!("[specimen]\nshape = \"cylinder\"\nradius_mm = {RC}\naxis_deg = {axis_deg:?}\n");
+    airless_scene(&bar, shots, 0.2, 2.0 * R, extra, "bar.toml")
 }
 
 /// Unit vector at `theta` (rad) from the crest (+z) towards +x, around an axis along y.

@@ -1039,28 +1039,9 @@ fn decks_of_a_groove_lay_the_target_under_its_surface() {
         panic!("not a groove")
     };
     let (o, _) = g.point_at(model.origin[0] * 1e-3, model.origin[1] * 1e-3);
-    let world = |x: f64, y: f64, z: f64| {
-        peenflow::Vec3::new(x * 1e-3 + o.x, y * 1e-3 + o.y, z * 1e-3 + o.z)
-    };
-    let node = |id: u32| {
-        let n = &model.nodes[(id - 1) as usize];
-        world(n.x, n.y, n.z)
-    };
-    for f in &model.target.top {
-        for id in model.mesh.face_nodes(*f) {
-            assert!(shape.distance(&node(id)).abs() < 1e-12, "top node {id}");
-        }
-    }
-    for &id in &model.target.bottom {
-        let d = shape.distance(&node(id));
-        assert!((d + 1e-3).abs() < 1e-12, "bottom node {id}: {d}");
-    }
-    // The shots touch the surface at the points aimed at, moving along its normals.
-    for (sh, ((ps, pz), (ns, nz))) in model.shots.iter().zip(&targets) {
-        let [x, y, z] = sh.contact_centre;
-        let c = world(x, y, z);
-        let want = peenflow::Vec3::new(ps + 0.4 * ns, 0.0, pz + 0.4 * nz) * 1e-3;
-        assert!((c - want).norm() < 1e-12, "{c:?} vs {want:?}");
+    check_block_and_shots_on_surface(&model, &shape, o, &targets, 1e-12);
+    // The shots move along the normals, set back along their velocities.
+    for (sh, (_, (ns, nz))) in model.shots.iter().zip(&targets) {
         let v = sh.velocity;
         assert!((v[0] + 70e3 * ns).abs() < 1e-6 && (v[2] + 70e3 * nz).abs() < 1e-6);
         for ((start, centre), v) in sh.start.iter().zip(sh.contact_centre).zip(v) {
@@ -1164,6 +1145,40 @@ fn calculix_impacts_in_a_groove_rebound_along_their_normals() {
     check_ccx_rebounds_along_normals(tmp.path(), &impacts, &targets);
 }
 
+/// A deck's target block under the surface of `shape` (model origin at the world point
+/// `o`): its top face's nodes on the surface, its bottom face's 1 mm under it along the
+/// normals, and each shot touching at its target (`tol`, m).
+fn check_block_and_shots_on_surface(
+    model: &deck::FeModel,
+    shape: &peenflow::contact::specimen::SpecimenShape,
+    o: peenflow::Vec3,
+    targets: &[Aim],
+    tol: f64,
+) {
+    let world = |x: f64, y: f64, z: f64| {
+        peenflow::Vec3::new(x * 1e-3 + o.x, y * 1e-3 + o.y, z * 1e-3 + o.z)
+    };
+    let node = |id: u32| {
+        let n = &model.nodes[(id - 1) as usize];
+        world(n.x, n.y, n.z)
+    };
+    for f in &model.target.top {
+        for id in model.mesh.face_nodes(*f) {
+            assert!(shape.distance(&node(id)).abs() < 1e-12, "top node {id}");
+        }
+    }
+    for &id in &model.target.bottom {
+        let d = shape.distance(&node(id));
+        assert!((d + 1e-3).abs() < tol, "bottom node {id}: {d}");
+    }
+    for (sh, ((ps, pz), (ns, nz))) in model.shots.iter().zip(targets) {
+        let [x, y, z] = sh.contact_centre;
+        let c = world(x, y, z);
+        let want = peenflow::Vec3::new(ps + 0.4 * ns, 0.0, pz + 0.4 * nz) * 1e-3;
+        assert!((c - want).norm() < tol, "{c:?} vs {want:?}");
+    }
+}
+
 /// Exports `dir`'s run (run/impacts.h5) as a CalculiX deck, runs ccx and checks each
 /// shot rebounds along its target's normal (sideways below 3 % of the rebound).
 fn check_ccx_rebounds_along_normals(dir: &Path, impacts: &[Impact], targets: &[Aim]) {
@@ -1244,28 +1259,7 @@ fn decks_of_a_gear_lay_the_target_under_its_involute_and_fillet() {
     );
     let k = deck::render(&model, "lsdyna", DeckFormat::LsDyna.builtin_template()).unwrap();
     assert!(k.lines().all(|l| l.len() <= 80), "a line over 80 columns");
-    let world = |x: f64, y: f64, z: f64| {
-        peenflow::Vec3::new(x * 1e-3 + o.x, y * 1e-3 + o.y, z * 1e-3 + o.z)
-    };
-    let node = |id: u32| {
-        let n = &model.nodes[(id - 1) as usize];
-        world(n.x, n.y, n.z)
-    };
-    for f in &model.target.top {
-        for id in model.mesh.face_nodes(*f) {
-            assert!(shape.distance(&node(id)).abs() < 1e-12, "top node {id}");
-        }
-    }
-    for &id in &model.target.bottom {
-        let d = shape.distance(&node(id));
-        assert!((d + 1e-3).abs() < 1e-11, "bottom node {id}: {d}");
-    }
-    for (sh, ((ps, pz), (ns, nz))) in model.shots.iter().zip(&targets) {
-        let [x, y, z] = sh.contact_centre;
-        let c = world(x, y, z);
-        let want = peenflow::Vec3::new(ps + 0.4 * ns, 0.0, pz + 0.4 * nz) * 1e-3;
-        assert!((c - want).norm() < 1e-11, "{c:?} vs {want:?}");
-    }
+    check_block_and_shots_on_surface(&model, &shape, o, &targets, 1e-11);
     if have("ccx", &["-v"]) {
         check_ccx_rebounds_along_normals(tmp.path(), &impacts, &targets);
     }

@@ -45,19 +45,7 @@ fn gear_lines(offset: f64) -> String {
 /// A scene without air or gravity onto `specimen`, restitution 0.7, with `shots`
 /// (position mm, velocity m/s).
 fn scene(specimen: &str, shots: &[(Vec3, Vec3)], duration_ms: f64) -> Scene {
-    let mut s = format!(
-        "duration_ms = {duration_ms:?}\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\n\
-         lateral_force = false\n{specimen}[shots]\ndiameter_mm = {}\n\
-         [shots.feed]\ntype = \"list\"\n",
-        2.0 * R
-    );
-    for (p, v) in shots {
-        s += &format!(
-            "[[shots.feed.shots]]\nposition_mm = [{:?}, {:?}, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
-            p.x, p.y, p.z, v.x, v.y, v.z
-        );
-    }
-    Scene::from_toml(&s, "gear.toml").unwrap()
+    airless_scene(specimen, shots, duration_ms, 2.0 * R, "", "gear.toml")
 }
 
 /// Surface points and normals of the test gear ([`gear_zone_points`]).

@@ -42,19 +42,7 @@ fn rack_lines() -> String {
 /// A scene without air or gravity onto `specimen` (TOML lines), restitution 0.7, with
 /// `shots` (position mm, velocity m/s) and `extra` TOML lines.
 fn scene(specimen: &str, shots: &[(Vec3, Vec3)], duration_ms: f64, extra: &str) -> Scene {
-    let mut s = format!(
-        "duration_ms = {duration_ms:?}\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\n\
-         lateral_force = false\n{specimen}[shots]\ndiameter_mm = {}\n{extra}\n\
-         [shots.feed]\ntype = \"list\"\n",
-        2.0 * R
-    );
-    for (p, v) in shots {
-        s += &format!(
-            "[[shots.feed.shots]]\nposition_mm = [{:?}, {:?}, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
-            p.x, p.y, p.z, v.x, v.y, v.z
-        );
-    }
-    Scene::from_toml(&s, "groove.toml").unwrap()
+    airless_scene(specimen, shots, duration_ms, 2.0 * R, extra, "groove.toml")
 }
 
 /// A point or a direction `(s, z)` in the cross-section, mm.

@@ -400,3 +400,28 @@ pub fn check_every_zone_hit(
         );
     }
 }
+
+/// A scene without air or gravity onto `specimen` (its TOML lines), restitution 0.7, with
+/// shots of `diameter_mm` thrown from a list (`shots`: position mm, velocity m/s), and
+/// `extra` TOML lines after `[shots]`; `name` is the file named in errors.
+pub fn airless_scene(
+    specimen: &str,
+    shots: &[(Vec3, Vec3)],
+    duration_ms: f64,
+    diameter_mm: f64,
+    extra: &str,
+    name: &str,
+) -> peenflow::scene::Scene {
+    let mut s = format!(
+        "duration_ms = {duration_ms:?}\ngravity_m_s2 = 0.0\n[effects]\ndrag = false\n\
+         lateral_force = false\n{specimen}[shots]\ndiameter_mm = {diameter_mm:?}\n{extra}\n\
+         [shots.feed]\ntype = \"list\"\n"
+    );
+    for (p, v) in shots {
+        s += &format!(
+            "[[shots.feed.shots]]\nposition_mm = [{:?}, {:?}, {:?}]\nvelocity_m_s = [{:?}, {:?}, {:?}]\n",
+            p.x, p.y, p.z, v.x, v.y, v.z
+        );
+    }
+    peenflow::scene::Scene::from_toml(&s, name).unwrap()
+}
