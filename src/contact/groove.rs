@@ -378,6 +378,50 @@ impl Groove {
         }
     }
 
+    /// [`Groove::distance`] where it is below `reach` in size, to the bit; otherwise a
+    /// value at least `reach` (for points in the air or less than `reach` deep). On a
+    /// gear the fillet's feet out of reach are not solved for; a rack's foot is cheap
+    /// and exact.
+    #[inline]
+    pub fn distance_within(&self, pos: &Vec3, reach: f64) -> f64 {
+        if let Some(g) = &self.gear {
+            return g.distance_within(pos.dot(&self.across), pos.z, reach);
+        }
+        self.distance(pos)
+    }
+
+    /// The foot of `pos` ([`Groove::foot`]) and the effective radius of a shot of
+    /// `radius` there ([`Groove::effective_radius`]), from one search for the foot.
+    #[inline]
+    pub fn foot_and_radius(&self, pos: &Vec3, radius: f64) -> (Foot, f64) {
+        let r = radius;
+        if let Some(g) = &self.gear {
+            let (distance, n, zone, k) = g.foot(pos.dot(&self.across), pos.z);
+            let foot = Foot {
+                distance,
+                normal: self.across * n.0 + Vec3::z() * n.1,
+                zone,
+            };
+            return (foot, (r * (r / (1.0 + r * k))).sqrt());
+        }
+        let foot = self.foot(pos);
+        let re = self.zone_effective_radius(foot.zone, r);
+        (foot, re)
+    }
+
+    /// A rack's effective radius on a piece of `zone` ([`Groove::effective_radius`]).
+    #[inline]
+    fn zone_effective_radius(&self, zone: Zone, r: f64) -> f64 {
+        match zone {
+            Zone::Bottom | Zone::Flank | Zone::Land => r,
+            Zone::Fillet => self.fillet_effective_radius(r),
+            Zone::Edge => {
+                let re = self.size.edge_radius;
+                (r * (r * re / (r + re))).sqrt()
+            }
+        }
+    }
+
     /// Distance (m) of `pos` from the surface, positive in the air.
     #[inline]
     pub fn distance(&self, pos: &Vec3) -> f64 {
@@ -402,14 +446,7 @@ impl Groove {
             let k = self.curvature_across(pos);
             return (r * (r / (1.0 + r * k))).sqrt();
         }
-        match self.foot(pos).zone {
-            Zone::Bottom | Zone::Flank | Zone::Land => r,
-            Zone::Fillet => self.fillet_effective_radius(r),
-            Zone::Edge => {
-                let re = self.size.edge_radius;
-                (r * (r * re / (r + re))).sqrt()
-            }
-        }
+        self.zone_effective_radius(self.foot(pos).zone, r)
     }
 
     /// Signed curvature (1/m, convex positive) of the piece under `pos` across the

@@ -61,6 +61,23 @@ pub(super) struct HalfFoot {
     pub curvature: f64,
 }
 
+/// How the fillet takes part in a foot's search ([`Gear::half_foot_with`]).
+#[derive(Debug, Clone, Copy)]
+enum Fillet {
+    /// Its feet are solved for where a piece may hold a point nearer than the reach and
+    /// than the other pieces' nearest: the distance is exact where it is below the reach
+    /// in size, and otherwise at least the reach (for points in the air or less than the
+    /// reach deep).
+    Within(f64),
+    /// It offers its lower bound (zone and normal left unset) instead of being solved.
+    Bound,
+}
+
+impl Fillet {
+    /// Solved wherever it is the nearest piece.
+    const EXACT: Fillet = Fillet::Within(f64::INFINITY);
+}
+
 /// A gear's tooth profile (see the module's documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gear {
@@ -489,8 +506,8 @@ impl Gear {
     }
 
     /// Offers the fillet's feet of `q` whose pieces may hold a point nearer than
-    /// `best` (every rolling angle whose normal runs through `q` there).
-    fn fillet_feet(&self, q: (f64, f64), best: &mut HalfFoot) {
+    /// `best` and than `reach` (every rolling angle whose normal runs through `q` there).
+    fn fillet_feet(&self, q: (f64, f64), best: &mut HalfFoot, reach: f64) {
         let mut ends: Option<(usize, f64)> = None;
         let side_at = |i: usize| {
             let (c, s, phi) = self.ends[i];
@@ -499,8 +516,8 @@ impl Gear {
         for (i, &(x, y, r)) in self.mids.iter().enumerate() {
             // The piece's lower bound `|q - m| - r` against the best so far, squared.
             let (dx, dy) = (q.0 - x, q.1 - y);
-            let reach = best.distance.abs() + r;
-            if dx * dx + dy * dy >= reach * reach {
+            let within = best.distance.abs().min(reach) + r;
+            if dx * dx + dy * dy >= within * within {
                 continue;
             }
             let h0 = match ends {
@@ -536,10 +553,8 @@ impl Gear {
     // ---- the half profile ------------------------------------------------------------
 
     /// The nearest piece's foot of `q` (half frame, `x >= 0`, within half a period), `a`
-    /// the angle of `q` from `+y`; without `exact_fillet`
-    /// the fillet offers its lower bound (zone and normal left unset) instead of being
-    /// solved.
-    fn half_foot_with(&self, q: (f64, f64), a: f64, exact_fillet: bool) -> HalfFoot {
+    /// the angle of `q` from `+y`. How the fillet takes part: [`Fillet`].
+    fn half_foot_with(&self, q: (f64, f64), a: f64, fillet: Fillet) -> HalfFoot {
         let rho = len(q.0, q.1);
         let mut best = HalfFoot {
             distance: f64::INFINITY,
@@ -619,10 +634,14 @@ impl Gear {
                 offer(&mut best, edge(l, gamma));
             }
         }
-        let known = best.distance.abs();
+        let reach = match fillet {
+            Fillet::Within(reach) => reach,
+            Fillet::Bound => f64::INFINITY,
+        };
+        let known = best.distance.abs().min(reach);
         if rho - self.fillet_top < known && self.fillet_far(q) < known {
-            if exact_fillet {
-                self.fillet_feet(q, &mut best);
+            if let Fillet::Within(reach) = fillet {
+                self.fillet_feet(q, &mut best, reach);
             } else {
                 let lb = HalfFoot {
                     distance: self.fillet_lower_bound(q),
@@ -630,6 +649,10 @@ impl Gear {
                 };
                 offer(&mut best, lb);
             }
+        }
+        if !best.distance.is_finite() && reach.is_finite() {
+            // Only the fillet could be near, and it is out of reach.
+            best.distance = reach;
         }
         if !best.distance.is_finite() {
             // Deep in the tooth, under no piece: the edge's distance.
@@ -711,7 +734,7 @@ impl Gear {
     /// zone and curvature.
     pub(super) fn foot(&self, s: f64, z: f64) -> (f64, (f64, f64), Zone, f64) {
         let (k, side, q, a) = self.fold_half(s, z);
-        let f = self.half_foot_with(q, a, true);
+        let f = self.half_foot_with(q, a, Fillet::EXACT);
         (
             f.distance,
             self.unfold_half(k, side, f.normal),
@@ -720,11 +743,20 @@ impl Gear {
         )
     }
 
+    /// The distance of the cross-section point `(s, z)` from the surface where it is
+    /// below `reach` in size (the same as [`Gear::foot`]'s to the bit); otherwise a value
+    /// at least `reach` (for points in the air, or less than `reach` deep). Skips solving
+    /// for the fillet's feet out of reach: a shot's contact check needs no more.
+    pub(super) fn distance_within(&self, s: f64, z: f64, reach: f64) -> f64 {
+        let (_, _, q, a) = self.fold_half(s, z);
+        self.half_foot_with(q, a, Fillet::Within(reach)).distance
+    }
+
     /// The unrolled arc length of the foot of `(s, z)`: from tooth space 0's middle,
     /// positive towards `across`.
     pub(super) fn unrolled(&self, s: f64, z: f64) -> f64 {
         let (k, side, q, a) = self.fold_half(s, z);
-        let f = self.half_foot_with(q, a, true);
+        let f = self.half_foot_with(q, a, Fillet::EXACT);
         let period = if k == 0.0 { 0.0 } else { 2.0 * k * self.u_half };
         period + side * self.arc_of(&f)
     }
@@ -762,7 +794,7 @@ impl Gear {
             }
         };
         let (_, _, q, a) = self.fold_half(s, z);
-        let d = self.half_foot_with(q, a, false).distance;
+        let d = self.half_foot_with(q, a, Fillet::Bound).distance;
         let near = if d <= radius {
             0.0
         } else if speed > 0.0 {
@@ -986,6 +1018,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn distances_within_a_reach_are_the_feet_s_own() {
+        // What a shot's contact check reads (`SpecimenShape::gap_within`): the foot's
+        // distance to the bit below the reach, at least the reach above it.
+        let mut rng = ChaCha8Rng::seed_from_u64(24680);
+        let (mut exact, mut beyond) = (0, 0);
+        for z in [18, 30, 80] {
+            let g = gear(z);
+            for _ in 0..20_000 {
+                let (s, zz) = (
+                    (rng.random::<f64>() - 0.5) * 30e-3,
+                    (rng.random::<f64>() - 0.1) * 12e-3,
+                );
+                let reach = [0.1e-3, 0.4e-3, 1e-3][rng.random_range(0..3)];
+                let d = g.foot(s, zz).0;
+                if d <= -reach {
+                    continue;
+                }
+                let w = g.distance_within(s, zz, reach);
+                if d.abs() < reach {
+                    assert_eq!(w.to_bits(), d.to_bits(), "({s}, {zz}) within {reach}");
+                    exact += 1;
+                } else {
+                    assert!(w >= reach, "({s}, {zz}): {w} for {d}, reach {reach}");
+                    beyond += 1;
+                }
+            }
+        }
+        assert!(exact > 2_000 && beyond > 20_000, "{exact} / {beyond}");
     }
 
     #[test]

@@ -33,6 +33,19 @@ pub enum SpecimenShape {
     Groove(Arc<Groove>),
 }
 
+/// The surface under a shot: what its contact's force needs, from one search for the
+/// foot (on a gear each of [`SpecimenShape::distance`], [`SpecimenShape::normal`] and
+/// [`SpecimenShape::effective_radius`] solves for it; the same numbers to the bit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Touch {
+    /// The shot's gap, m (negative when overlapping): [`SpecimenContact::gap`].
+    pub gap: f64,
+    /// Outward unit normal at the foot: [`SpecimenShape::normal`].
+    pub normal: Vec3,
+    /// Hertz effective radius: [`SpecimenShape::effective_radius`].
+    pub effective_radius: f64,
+}
+
 impl SpecimenShape {
     /// A cylinder of `radius` (m) whose axis makes `axis_angle` (rad) with `+x` in the
     /// horizontal plane.
@@ -86,6 +99,46 @@ impl SpecimenShape {
                 Self::radial(pos, *radius, axis).norm() - radius
             }
             SpecimenShape::Groove(g) => g.distance(pos),
+        }
+    }
+
+    /// [`SpecimenShape::distance`] where it is below `reach` in size, to the bit;
+    /// otherwise a value at least `reach` (for points in the air or less than `reach`
+    /// deep). Cheaper on a gear, whose fillet's feet out of reach are not solved for.
+    #[inline]
+    pub fn distance_within(&self, pos: &Vec3, reach: f64) -> f64 {
+        match self {
+            SpecimenShape::Groove(g) => g.distance_within(pos, reach),
+            _ => self.distance(pos),
+        }
+    }
+
+    /// The surface under a shot of `radius` at `pos` ([`Touch`]).
+    #[inline]
+    pub fn touch(&self, pos: &Vec3, radius: f64) -> Touch {
+        match self {
+            SpecimenShape::Plane => Touch {
+                gap: pos.z - radius,
+                normal: Vec3::z(),
+                effective_radius: radius,
+            },
+            SpecimenShape::Cylinder { radius: rc, axis } => {
+                let d = Self::radial(pos, *rc, axis);
+                let l = d.norm();
+                Touch {
+                    gap: (l - rc) - radius,
+                    normal: if l > 0.0 { d / l } else { Vec3::z() },
+                    effective_radius: (radius * (radius * rc / (radius + rc))).sqrt(),
+                }
+            }
+            SpecimenShape::Groove(g) => {
+                let (foot, effective_radius) = g.foot_and_radius(pos, radius);
+                Touch {
+                    gap: foot.distance - radius,
+                    normal: foot.normal,
+                    effective_radius,
+                }
+            }
         }
     }
 
@@ -253,6 +306,46 @@ impl SpecimenContact {
         self.shape.normal(pos)
     }
 
+    /// [`SpecimenContact::gap`] where the shot overlaps the surface, to the bit; some
+    /// value of at least 0 otherwise (cheaper on a gear: [`SpecimenShape::distance_within`]).
+    #[inline]
+    pub fn overlap_gap(&self, pos: &Vec3, radius: f64) -> f64 {
+        self.shape.distance_within(pos, radius) - radius
+    }
+
+    /// The surface under a shot of `radius` at `pos` ([`Touch`]).
+    #[inline]
+    pub fn touch(&self, pos: &Vec3, radius: f64) -> Touch {
+        self.shape.touch(pos, radius)
+    }
+
+    /// [`SpecimenContact::normal_velocity`] under `touch`.
+    #[inline]
+    pub fn normal_velocity_at(&self, touch: &Touch, vel: &Vec3) -> f64 {
+        match self.shape {
+            SpecimenShape::Plane => vel.z,
+            _ => vel.dot(&touch.normal),
+        }
+    }
+
+    /// [`SpecimenContact::lever`] under `touch`.
+    #[inline]
+    pub fn lever_at(&self, touch: &Touch, lever: f64) -> Vec3 {
+        match self.shape {
+            SpecimenShape::Plane => Vec3::new(0.0, 0.0, -lever),
+            _ => touch.normal * -lever,
+        }
+    }
+
+    /// [`SpecimenContact::add_normal`] under `touch`.
+    #[inline]
+    pub fn add_normal_at(&self, touch: &Touch, a: &mut Vec3, s: f64) {
+        match self.shape {
+            SpecimenShape::Plane => a.z += s,
+            _ => *a += touch.normal * s,
+        }
+    }
+
     /// Component of `vel` along the outward normal at `pos` (negative: approaching).
     #[inline]
     pub fn normal_velocity(&self, pos: &Vec3, vel: &Vec3) -> f64 {
@@ -310,6 +403,89 @@ impl SpecimenContact {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The module 4 rack of 20 degrees (ISO 53 proportions) as a rack of grooves, or
+    /// wrapped into the 30-tooth gear it cuts.
+    fn rack_or_gear(gear: bool) -> SpecimenShape {
+        use crate::contact::groove::{GearTeeth, GrooveSize};
+        let (m, a) = (4e-3, 20f64.to_radians());
+        let (hf, rho, pitch) = (1.25 * m, 0.38 * m, std::f64::consts::PI * m);
+        let hb = pitch / 4.0 - (hf - rho * (1.0 - a.sin())) * a.tan() - rho * a.cos();
+        let size = GrooveSize {
+            radius: rho,
+            bottom: 2.0 * hb,
+            flank: a,
+            depth: 2.25 * m,
+            edge_radius: 0.2 * m,
+            pitch: Some(pitch),
+            axis_angle: 90f64.to_radians(),
+            offset: 1.3e-3,
+            gear: gear.then_some(GearTeeth {
+                teeth: 30,
+                dedendum: hf,
+            }),
+        };
+        SpecimenShape::Groove(Arc::new(Groove::new(size).unwrap()))
+    }
+
+    #[test]
+    fn one_foot_gives_what_a_contact_reads_to_the_bit() {
+        // `touch` and `overlap_gap` stand for `gap`, `normal`, `effective_radius` in the
+        // integrator's contacts: the same numbers, whatever the shape.
+        let law = HertzLaw::new(2.1e11, 0.3, 2.1e11, 0.3, 0.7);
+        let r = 0.4e-3;
+        for shape in [
+            SpecimenShape::Plane,
+            SpecimenShape::cylinder(5e-3, 30f64.to_radians()),
+            rack_or_gear(false),
+            rack_or_gear(true),
+        ] {
+            let sp = SpecimenContact {
+                law,
+                by_speed: None,
+                shape: shape.clone(),
+            };
+            let (mut touching, mut clear) = (0, 0);
+            let mut rng = ChaCha8Rng::seed_from_u64(1357);
+            for _ in 0..10_000 {
+                let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
+                let p = Vec3::new(u(-12e-3, 12e-3), u(-5e-3, 5e-3), u(-1e-3, 10e-3));
+                let v = Vec3::new(u(-5.0, 5.0), u(-5.0, 5.0), u(-20.0, 5.0));
+                let gap = sp.gap(&p, r);
+                if gap < -r {
+                    continue;
+                }
+                let t = sp.touch(&p, r);
+                assert_eq!(t.gap.to_bits(), gap.to_bits());
+                assert_eq!(t.normal, sp.normal(&p));
+                assert_eq!(
+                    t.effective_radius.to_bits(),
+                    sp.effective_radius(&p, r).to_bits()
+                );
+                assert_eq!(
+                    sp.normal_velocity_at(&t, &v).to_bits(),
+                    sp.normal_velocity(&p, &v).to_bits()
+                );
+                assert_eq!(sp.lever_at(&t, 0.7 * r), sp.lever(&p, 0.7 * r));
+                let (mut a, mut b) = (v, v);
+                sp.add_normal_at(&t, &mut a, 2.5);
+                sp.add_normal(&p, &mut b, 2.5);
+                assert_eq!(a, b);
+                let o = sp.overlap_gap(&p, r);
+                if gap < 0.0 {
+                    assert_eq!(o.to_bits(), gap.to_bits());
+                    touching += 1;
+                } else {
+                    assert!(o >= 0.0, "{shape:?} at {p:?}: {o} for {gap}");
+                    clear += 1;
+                }
+            }
+            assert!(touching > 100 && clear > 2_000, "{touching} / {clear}");
+        }
+    }
 
     #[test]
     fn a_cylinders_geometry_and_unrolled_surface() {

@@ -775,15 +775,19 @@ impl Ctx<'_> {
             }
             if let Some(sp) = &c.specimen {
                 work.specimen_contact_checks += 1;
-                let gap = sp.gap(&p, m.body.radius);
                 // With located onsets, a specimen contact pushes from the end of the step
                 // that located it: the trial steps that locate it see free flight, so the
                 // recorded impact velocity is not polluted by the damping term's
                 // delta^(1/4) jump weighted over the whole step (measured: 7.6e-5 of the
                 // normal speed at 10 m/s). The contact then misses at most the
                 // `1e-9 R` of overlap the location leaves, i.e. ~1e-14 s of force.
-                if gap < 0.0 && (m.on_specimen || !self.onsets_located) {
-                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
+                if sp.overlap_gap(&p, m.body.radius) < 0.0
+                    && (m.on_specimen || !self.onsets_located)
+                {
+                    // One search for the foot serves the gap, the normal and the radius.
+                    let touch = sp.touch(&p, m.body.radius);
+                    let gap = touch.gap;
+                    let k = sp.law.stiffness(touch.effective_radius);
                     // A contact pushing at the step's start: its force unclamped, so the
                     // stages of a step that runs past its kink see a smooth force (and the
                     // error estimate an error of the step's order, not of a kink's), and
@@ -792,25 +796,25 @@ impl Ctx<'_> {
                     // the 10,000-shot stream, a quarter of the rejected trials
                     // (docs/performance-history.md, "Contacts unclamped up to their kink, session
                     // 35"). Friction takes the clamped load.
-                    let vn = sp.normal_velocity(&p, &v);
+                    let vn = sp.normal_velocity_at(&touch, &v);
                     let law = sp.law_of(m, vn);
                     let f = if pushing.is_some_and(|p| p.specimen[i]) {
                         law.force_unclamped(k, m.body.mass, -gap, -vn)
                     } else {
                         law.force(k, m.body.mass, -gap, -vn)
                     };
-                    sp.add_normal(&p, &mut a, f / m.body.mass);
+                    sp.add_normal_at(&touch, &mut a, f / m.body.mass);
                     let f = f.max(0.0);
                     if let Some(fr) = &fr {
                         work.friction_calls += 1;
                         // Contact point on the surface side of the centre, along the
                         // normal (on the plane, below it). The history law acts where
                         // LIGGGHTS' does (`Ctx::history`).
-                        let r_c = sp.lever(&p, history_lever(m.body.radius, -gap, tangent));
+                        let r_c = sp.lever_at(&touch, history_lever(m.body.radius, -gap, tangent));
                         let ft = if let Some(tf) = tangent {
                             tf[pairs.len() + i]
                         } else {
-                            let nz = sp.normal(&p);
+                            let nz = touch.normal;
                             let slip =
                                 friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
                             let gamma = friction::stick_damping(
@@ -974,22 +978,24 @@ impl Ctx<'_> {
             let (p, v) = (pos(y, i), vel(y, i));
             let mass = m.body.mass;
             let mut on_specimen = false;
-            if moves && let Some(sp) = &c.specimen {
-                let gap = sp.gap(&p, m.body.radius);
-                if gap < 0.0 {
-                    on_specimen = true;
-                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
-                    let vn = sp.normal_velocity(&p, &v);
-                    let law = sp.law_of(m, vn);
-                    let f_n = law.force(k, mass, -gap, -vn);
-                    let r_c = sp.lever(&p, m.body.radius + 0.5 * gap);
-                    let nz = sp.normal(&p);
-                    let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
-                    let k_t = friction::history_stiffness(g_s, k, -gap);
-                    let gamma = friction::history_damping(g_s, law.damping, mass, k, -gap);
-                    out[pairs.len() + i] =
-                        step(&mut m.specimen_xi, &nz, &slip, k_t, gamma, fr.specimen, f_n);
-                }
+            if moves
+                && let Some(sp) = &c.specimen
+                && sp.overlap_gap(&p, m.body.radius) < 0.0
+            {
+                on_specimen = true;
+                let touch = sp.touch(&p, m.body.radius);
+                let gap = touch.gap;
+                let k = sp.law.stiffness(touch.effective_radius);
+                let vn = sp.normal_velocity_at(&touch, &v);
+                let law = sp.law_of(m, vn);
+                let f_n = law.force(k, mass, -gap, -vn);
+                let r_c = sp.lever_at(&touch, m.body.radius + 0.5 * gap);
+                let nz = touch.normal;
+                let slip = friction::tangential_part(&(v + omega(y, n, i).cross(&r_c)), &nz);
+                let k_t = friction::history_stiffness(g_s, k, -gap);
+                let gamma = friction::history_damping(g_s, law.damping, mass, k, -gap);
+                out[pairs.len() + i] =
+                    step(&mut m.specimen_xi, &nz, &slip, k_t, gamma, fr.specimen, f_n);
             }
             if !on_specimen && !keep {
                 m.specimen_xi = Vec3::zeros();
@@ -1161,10 +1167,10 @@ impl Ctx<'_> {
             .specimen
             .as_ref()
             .expect("BUG: specimen contact without specimen");
-        let p = pos(y, i);
-        let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
-        let overlap = -sp.gap(&p, m.body.radius);
-        let vn = sp.normal_velocity(&p, &vel(y, i));
+        let touch = sp.touch(&pos(y, i), m.body.radius);
+        let k = sp.law.stiffness(touch.effective_radius);
+        let overlap = -touch.gap;
+        let vn = sp.normal_velocity_at(&touch, &vel(y, i));
         sp.law_of(m, vn)
             .unloading_margin(k, m.body.mass, overlap, -vn)
     }
@@ -1380,7 +1386,7 @@ impl Ctx<'_> {
             let r = m.body.radius;
             if let Some(sp) = &c.specimen
                 && !m.on_specimen
-                && sp.gap(&pos(y1, i), r) < 0.0
+                && sp.overlap_gap(&pos(y1, i), r) < 0.0
             {
                 let g = |s: f64| sp.gap(&hermite(y0, y1, h, i, s).0, r);
                 let s = if g(0.0) < 0.0 { 0.0 } else { root(&g) };
@@ -1578,7 +1584,7 @@ impl Ctx<'_> {
             }
             if let Some(sp) = &c.specimen
                 && !m.on_specimen
-                && sp.gap(&p, r) < 0.0
+                && sp.overlap_gap(&p, r) < 0.0
             {
                 let w = spin_at(y, y, n, i, 0.0);
                 self.specimen_onset(m, t, &p, &v, &w, out);
@@ -1715,10 +1721,11 @@ impl Ctx<'_> {
                 && !m.sliding
             {
                 if m.on_specimen {
-                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
-                    let overlap = -sp.gap(&p, m.body.radius);
+                    let touch = sp.touch(&p, m.body.radius);
+                    let k = sp.law.stiffness(touch.effective_radius);
+                    let overlap = -touch.gap;
                     cap = cap.min(in_contact(
-                        &sp.law_of(m, sp.normal_velocity(&p, &v)),
+                        &sp.law_of(m, sp.normal_velocity_at(&touch, &v)),
                         m.specimen_contact_time,
                         m.specimen_onset,
                         overlap,
@@ -1726,14 +1733,15 @@ impl Ctx<'_> {
                         k,
                     ));
                 } else {
-                    let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
-                    let vn = sp.normal_velocity(&p, &v);
+                    let touch = sp.touch(&p, m.body.radius);
+                    let k = sp.law.stiffness(touch.effective_radius);
+                    let vn = sp.normal_velocity_at(&touch, &v);
                     // Towards a convex part the gap closes no faster than `-vn`; in a
                     // groove a shot may close on another face than the nearest (along
                     // the bottom towards a flank: `SpecimenShape::closing_speed`; found
                     // by bench/random_scenes.py --groove, where such a step crossed a
                     // tooth's edge unseen).
-                    let gap = sp.gap(&p, m.body.radius);
+                    let gap = touch.gap;
                     let closing = if sp.shape.is_plane() {
                         -vn
                     } else {
