@@ -9,7 +9,7 @@ batch too full to place) are counted apart: they are the loader doing its job.
     python3 bench/random_scenes.py [--binary target/release/peenflow] [--count 500]
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
                                    [--dense] [--vacuum] [--verlet [--history] [--events]
-                                   [--hybrid]]
+                                   [--hybrid]] [--curves] [--cylinder | --groove | --gear]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -38,7 +38,11 @@ others but --events): onto a cylinder of random radius (1.6 to 40 mm) and axis i
 of the plate; the check for shots ending inside the specimen then takes its surface.
 With --groove (since session 50; the same): into a groove of random fillet, bottom,
 flanks, edges and depth, a rack of them half the time, moved off the jet half the time
-(`offset_mm`, since session 51); the check takes its profile.
+(`offset_mm`, since session 51); the check takes its profile. With --gear (since
+session 54; the same): onto a spur gear of random teeth, module, pressure angle,
+addendum, dedendum, fillets, tip edges, axis and turn; the check for shots ending
+inside it is independent of peenflow's pieces (what the rack leaves of the blank as it
+rolls: `gear_side`) and skips the band of the rounded tip edges.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -123,6 +127,97 @@ def with_groove(r, text):
     return text + lines
 
 
+def with_gear(r, text):
+    """`text` onto a spur gear (since session 54): 18 to 150 teeth of module 1 to 6 mm,
+    pressure angle 14.5 to 25 degrees, dedendum 1 to 1.4 and addendum 0.7 to 1 modules,
+    root fillets (the cutter's corners) 0.2 to 0.45 and tip edges 0.1 to 0.3 modules,
+    along a random horizontal axis, turned along its pitch circle half the time (the
+    loader refuses the undercut, pointed, or too sharp for the shots: counted apart)."""
+    m = r.uniform(1, 6)
+    lines = (f'[specimen]\nshape = "gear"\nteeth = {r.randint(18, 150)}\nmodule_mm = {m:.3f}\n'
+             f"pressure_angle_deg = {r.uniform(14.5, 25):.2f}\n"
+             f"dedendum_mm = {r.uniform(1.0, 1.4) * m:.3f}\naddendum_mm = {r.uniform(0.7, 1.0) * m:.3f}\n"
+             f"radius_mm = {r.uniform(0.2, 0.45) * m:.3f}\n"
+             f"edge_radius_mm = {r.uniform(0.1, 0.3) * m:.3f}\naxis_deg = {r.uniform(0, 179.9):.2f}\n")
+    if r.random() < 0.5:
+        lines += f"offset_mm = {r.uniform(-2 * m, 2 * m):.3f}\n"
+    tips = 2.4 * m
+
+    def lift(k):
+        return f"{k.group(1)}{float(k.group(2)) + tips:.3f}]"
+    text = re.sub(r"(?m)^((?:min|max)_mm = \[[^,]+, [^,]+, )([0-9.]+)\]", lift, text)
+    return text + lines
+
+
+def gear_side(text, x, y, z):
+    """Negative when the point is inside a scene's gear by more than 1 um, positive when
+    it is outside it, None in the band within two edge radii of the tip circle (the
+    rounded tip edges, left unchecked). Independent of peenflow's pieces: the gear is
+    what is left of its blank (the tip circle) after its rack, the cutter, has rolled on
+    the pitch circle (a point is cut away if some rolling position puts it in the
+    cutter, the rack's tooth, i.e. in the air of the groove `groove_half` draws)."""
+    text = text[text.index("[specimen]"):]
+
+    def key(k, default=None):
+        m = re.search(rf"(?m)^{k} = (-?[0-9.]+) *(#.*)?$", text)
+        return float(m.group(1)) if m else default
+    z_t, m = key("teeth"), key("module_mm") * 1e-3
+    al = math.radians(key("pressure_angle_deg", 20.0))
+    # The loader's defaults: dedendum 1.25, addendum 1, fillets 0.38, tip edges 0.2 modules.
+    hf, ha = key("dedendum_mm", 1250 * m) * 1e-3, key("addendum_mm", 1000 * m) * 1e-3
+    rho, rho_e = key("radius_mm", 380 * m) * 1e-3, key("edge_radius_mm", 200 * m) * 1e-3
+    r_p = z_t * m / 2
+    r_f, r_a = r_p - hf, r_p + ha
+    pitch = math.pi * m
+    hb = pitch / 4 - (hf - rho * (1 - math.sin(al))) * math.tan(al) - rho * math.cos(al)
+    # The cutter's teeth are the groove's air; its own root (the groove's lands) is set
+    # far below the blank, so only its tips and corners cut.
+    half = groove_half(rho, 2 * hb, math.degrees(al), ha + hf + 10 * m, rho_e)
+    hs = [q[0] for q in half]
+
+    def in_cutter(s, zg):
+        """Height of the point over the groove's profile (positive: in the cutter)."""
+        s -= round(s / pitch) * pitch
+        s = abs(s)
+        if s >= half[-1][0]:
+            return zg - half[-1][1]
+        k = bisect.bisect_right(hs, s)
+        (s0, z0), (s1, z1) = half[k - 1], half[k]
+        return zg - (z0 + (z1 - z0) * (s - s0) / (s1 - s0) if s1 > s0 else max(z0, z1))
+
+    a = math.radians(key("axis_deg"))
+    gx, gy = x * math.sin(a) - y * math.cos(a), z + r_f
+    turn = (key("offset_mm") or 0.0) * 1e-3 / r_p
+    c, sn = math.cos(-turn), math.sin(-turn)
+    gx, gy = gx * c + gy * sn, -gx * sn + gy * c
+    rad = math.hypot(gx, gy)
+    if rad >= r_a:
+        return rad - r_a
+    if rad > r_a - 2 * rho_e:
+        return None
+
+    def cut(phi):
+        cp, sp = math.cos(phi), math.sin(phi)
+        xr, yr = gx * cp + gy * sp - r_p * phi, -gx * sp + gy * cp
+        return in_cutter(xr, yr - r_f)
+    # The most the cutter covers the point over the rolling positions that can reach it:
+    # a fine grid, then golden-section refinement around its best.
+    span = 2 * math.pi / z_t + abs(math.atan2(gx, gy)) + (r_a - r_f) / r_p
+    n = 2000
+    grid = [-span + 2 * span * k / n for k in range(n + 1)]
+    best = max(range(n + 1), key=lambda k: cut(grid[k]))
+    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, n)]
+    g = (math.sqrt(5) - 1) / 2
+    for _ in range(60):
+        p1, p2 = hi - g * (hi - lo), lo + g * (hi - lo)
+        if cut(p1) < cut(p2):
+            lo = p1
+        else:
+            hi = p2
+    covered = max(cut(grid[best]), cut(0.5 * (lo + hi)))
+    return covered if covered > 0 or covered < -1e-6 else None
+
+
 def groove_half(rf, bottom, flank_deg, depth, rho, n=400):
     """The right half of a groove's cross-section, (s, z) points from its middle to the
     lands' start, m (s never decreases: flanks lean out or stand)."""
@@ -167,6 +262,8 @@ def surface_distance(text, x, y, z):
     the plate, or its distance from a cylinder's axis less the radius."""
     if 'shape = "groove"' in text:
         return groove_side(text, x, y, z)
+    if 'shape = "gear"' in text:
+        return gear_side(text, x, y, z)
     m = re.search(r"(?m)^radius_mm = ([0-9.]+)$", text)
     if 'shape = "cylinder"' not in text or not m:
         return z
@@ -510,8 +607,10 @@ def check(binary, path, out, energy):
             text = f.read()
         with open(os.path.join(out, "shots.csv")) as f:
             for row in csv.DictReader(f):
+                if row["status"] != "active":
+                    continue
                 d = surface_distance(text, *(float(row[k]) for k in ("x_m", "y_m", "z_m")))
-                if row["status"] == "active" and not d > 0.0:
+                if d is not None and not d > 0.0:
                     bad.append(f"shot {row['shot']} ends {d} m from the surface")
                     break
     except (OSError, ValueError, KeyError) as e:
@@ -547,6 +646,9 @@ def main():
     ap.add_argument("--groove", action="store_true",
                     help="into a grooved specimen (`shape = \"groove\"`, random dimensions, "
                          "a rack half the time) instead of the plate")
+    ap.add_argument("--gear", action="store_true",
+                    help="onto a spur gear (`shape = \"gear\"`, random teeth, module, "
+                         "proportions, axis and turn) instead of the plate")
     ap.add_argument("--events", action="store_true",
                     help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
                          "scenes without air: --ballistic or --vacuum)")
@@ -555,10 +657,10 @@ def main():
         ap.error("--history needs --verlet (the history law runs on the fixed-step method)")
     if a.hybrid and not a.verlet:
         ap.error("--hybrid needs --verlet (it draws the same step)")
-    if a.events and (a.cylinder or a.groove):
-        ap.error("--events with --cylinder or --groove: the event scheduler refuses them")
-    if a.cylinder and a.groove:
-        ap.error("--cylinder or --groove: one specimen")
+    if a.events and (a.cylinder or a.groove or a.gear):
+        ap.error("--events with --cylinder, --groove or --gear: the event scheduler refuses them")
+    if a.cylinder + a.groove + a.gear > 1:
+        ap.error("--cylinder, --groove or --gear: one specimen")
     if a.events and not (a.verlet and (a.ballistic or a.vacuum)):
         ap.error("--events needs --verlet and --ballistic or --vacuum (the event scheduler "
                  "needs scenes without air)")
@@ -588,6 +690,8 @@ def main():
             text = with_cylinder(random.Random(a.seed * 1_000_003 + k + 700_000_001), text)
         if a.groove:
             text = with_groove(random.Random(a.seed * 1_000_003 + k + 900_000_011), text)
+        if a.gear:
+            text = with_gear(random.Random(a.seed * 1_000_003 + k + 1_100_000_017), text)
         if a.events:
             # No draw either.
             for m in ("verlet", "hybrid"):
