@@ -313,6 +313,21 @@ impl SpecimenContact {
         self.shape.distance_within(pos, radius) - radius
     }
 
+    /// A value whose minimum with `cap` is `cap.min(self.gap(pos, radius))` to the bit:
+    /// the gap where it is below `cap`, some value of at least `cap` otherwise (cheaper
+    /// on a gear: [`SpecimenShape::distance_within`]). For a margin that is a minimum.
+    #[inline]
+    pub fn gap_below(&self, pos: &Vec3, radius: f64, cap: f64) -> f64 {
+        // Four roundings' room, so that a value of at least `reach` less `radius` is at
+        // least `cap`.
+        let reach = (cap + radius) * (1.0 + 4.0 * f64::EPSILON);
+        if reach > 0.0 {
+            self.shape.distance_within(pos, reach) - radius
+        } else {
+            self.gap(pos, radius)
+        }
+    }
+
     /// The surface under a shot of `radius` at `pos` ([`Touch`]).
     #[inline]
     pub fn touch(&self, pos: &Vec3, radius: f64) -> Touch {
@@ -433,8 +448,9 @@ mod tests {
 
     #[test]
     fn one_foot_gives_what_a_contact_reads_to_the_bit() {
-        // `touch` and `overlap_gap` stand for `gap`, `normal`, `effective_radius` in the
-        // integrator's contacts: the same numbers, whatever the shape.
+        // `touch`, `overlap_gap` and `gap_below` stand for `gap`, `normal`,
+        // `effective_radius` in the integrator's contacts and margins: the same numbers,
+        // whatever the shape.
         let law = HertzLaw::new(2.1e11, 0.3, 2.1e11, 0.3, 0.7);
         let r = 0.4e-3;
         for shape in [
@@ -474,6 +490,19 @@ mod tests {
                 sp.add_normal_at(&t, &mut a, 2.5);
                 sp.add_normal(&p, &mut b, 2.5);
                 assert_eq!(a, b);
+                for cap in [
+                    f64::INFINITY,
+                    1e-3,
+                    0.2e-3,
+                    1e-5,
+                    0.0,
+                    -0.1e-3,
+                    -r,
+                    -2.0 * r,
+                ] {
+                    let below = sp.gap_below(&p, r, cap);
+                    assert_eq!(cap.min(below).to_bits(), cap.min(gap).to_bits());
+                }
                 let o = sp.overlap_gap(&p, r);
                 if gap < 0.0 {
                     assert_eq!(o.to_bits(), gap.to_bits());

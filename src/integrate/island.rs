@@ -1138,7 +1138,7 @@ impl Ctx<'_> {
                 }
             } else if let Some(sp) = specimen {
                 if !m.on_specimen {
-                    g = g.min(sp.gap(&p, m.body.radius));
+                    g = g.min(sp.gap_below(&p, m.body.radius, g));
                 } else if pushing.specimen[i] {
                     g = g.min(KINK_SCALE * self.specimen_unloading(m, i, y));
                 }
@@ -1276,10 +1276,10 @@ impl Ctx<'_> {
                     && t - m.specimen_onset <= 3.0 * m.specimen_contact_time
                     && self.specimen_unloading(m, i, y) > 0.0
                     && {
-                        let p = pos(y, i);
-                        let k = sp.law.stiffness(sp.effective_radius(&p, m.body.radius));
-                        let overlap = -sp.gap(&p, m.body.radius);
-                        let vn = sp.normal_velocity(&p, &vel(y, i));
+                        let touch = sp.touch(&pos(y, i), m.body.radius);
+                        let k = sp.law.stiffness(touch.effective_radius);
+                        let overlap = -touch.gap;
+                        let vn = sp.normal_velocity_at(&touch, &vel(y, i));
                         let mu = fr.map_or(0.0, |f| f.specimen);
                         let size = 2.0 * m.body.radius;
                         let tol = self.phys.tolerance;
@@ -1442,10 +1442,11 @@ impl Ctx<'_> {
             .specimen
             .as_ref()
             .expect("BUG: specimen onset without specimen");
-        let vn = sp.normal_velocity(p, v);
+        let touch = sp.touch(p, m.body.radius);
+        let vn = sp.normal_velocity_at(&touch, v);
         m.specimen_damping = sp.law_at(-vn).damping;
         m.on_specimen = true;
-        let k = sp.law.stiffness(sp.effective_radius(p, m.body.radius));
+        let k = sp.law.stiffness(touch.effective_radius);
         m.specimen_contact_time = hertz::contact_time(m.body.mass, k, (-vn).max(MIN_CONTACT_SPEED));
         m.specimen_onset = t;
         m.hits += 1;
@@ -1895,13 +1896,16 @@ impl Ctx<'_> {
                     tangential_start(y1, n, &slip, d_t, t - onset, h, &[(i, m, r_c)]);
                 }
             };
-            if let Some(sp) = &c.specimen {
-                let k = sp.law.stiffness(sp.effective_radius(&p, r));
-                if m.on_specimen && fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
+            if let Some(sp) = &c.specimen
+                && m.on_specimen
+            {
+                let touch = sp.touch(&p, r);
+                let k = sp.law.stiffness(touch.effective_radius);
+                if fresh(m.specimen_contact_time, m.specimen_onset, mass, k) {
                     let mu = fr.map_or(0.0, |f| f.specimen);
                     let (tc, on) = (m.specimen_contact_time, m.specimen_onset);
-                    let law = sp.law_of(m, sp.normal_velocity(&p, &v));
-                    one(y1, &law, k, tc, on, sp.normal(&p), mu);
+                    let law = sp.law_of(m, sp.normal_velocity_at(&touch, &v));
+                    one(y1, &law, k, tc, on, touch.normal, mu);
                 }
             }
             if let Some(w) = &c.wall {
