@@ -361,12 +361,7 @@ impl Groove {
     #[inline]
     pub fn foot(&self, pos: &Vec3) -> Foot {
         if let Some(g) = &self.gear {
-            let (distance, n, zone, _) = g.foot(pos.dot(&self.across), pos.z);
-            return Foot {
-                distance,
-                normal: self.across * n.0 + Vec3::z() * n.1,
-                zone,
-            };
+            return self.gear_foot(g, pos).0;
         }
         let (_, s) = self.fold(self.s_of(pos));
         let h = self.half_foot(s.abs(), pos.z);
@@ -396,17 +391,25 @@ impl Groove {
     pub fn foot_and_radius(&self, pos: &Vec3, radius: f64) -> (Foot, f64) {
         let r = radius;
         if let Some(g) = &self.gear {
-            let (distance, n, zone, k) = g.foot(pos.dot(&self.across), pos.z);
-            let foot = Foot {
-                distance,
-                normal: self.across * n.0 + Vec3::z() * n.1,
-                zone,
-            };
-            return (foot, (r * (r / (1.0 + r * k))).sqrt());
+            let (foot, k) = self.gear_foot(g, pos);
+            return (foot, curved_effective_radius(r, k));
         }
         let foot = self.foot(pos);
         let re = self.zone_effective_radius(foot.zone, r);
         (foot, re)
+    }
+
+    /// A gear's foot of `pos`, unfolded from the gear's plane to the groove's frame,
+    /// and the curvature of the piece under it.
+    #[inline]
+    fn gear_foot(&self, g: &Gear, pos: &Vec3) -> (Foot, f64) {
+        let (distance, n, zone, k) = g.foot(pos.dot(&self.across), pos.z);
+        let foot = Foot {
+            distance,
+            normal: self.across * n.0 + Vec3::z() * n.1,
+            zone,
+        };
+        (foot, k)
     }
 
     /// A rack's effective radius on a piece of `zone` ([`Groove::effective_radius`]).
@@ -441,10 +444,8 @@ impl Groove {
     pub fn effective_radius(&self, pos: &Vec3, radius: f64) -> f64 {
         let r = radius;
         if self.gear.is_some() {
-            // Every piece of a gear is curved, by `k` (convex but for the fillets): the
-            // cylinder's `sqrt(r R'')` with `1/R'' = 1/r + k`.
-            let k = self.curvature_across(pos);
-            return (r * (r / (1.0 + r * k))).sqrt();
+            // Every piece of a gear is curved (convex but for the fillets).
+            return curved_effective_radius(r, self.curvature_across(pos));
         }
         self.zone_effective_radius(self.foot(pos).zone, r)
     }
@@ -773,6 +774,14 @@ impl Groove {
     pub fn zone_starts(&self) -> [f64; 5] {
         [0.0, self.u_fillet, self.u_flank, self.u_edge, self.u_land]
     }
+}
+
+/// The Hertz effective radius of a shot of radius `r` on a piece curved by `k` across
+/// (1/m, convex positive) and straight along: the cylinder's `sqrt(r R'')` with
+/// `1/R'' = 1/r + k`.
+#[inline]
+fn curved_effective_radius(r: f64, k: f64) -> f64 {
+    (r * (r / (1.0 + r * k))).sqrt()
 }
 
 #[cfg(test)]

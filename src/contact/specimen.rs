@@ -90,6 +90,20 @@ impl SpecimenShape {
         d - axis * d.dot(axis)
     }
 
+    /// For a cylinder: the length of the radial offset `d` and the outward unit normal
+    /// along it (`+z` on the axis itself).
+    #[inline]
+    fn radial_normal(d: &Vec3) -> (f64, Vec3) {
+        let l = d.norm();
+        (l, if l > 0.0 { d / l } else { Vec3::z() })
+    }
+
+    /// A cylinder's effective radius for a shot of `radius` ([`Self::effective_radius`]).
+    #[inline]
+    fn cylinder_effective_radius(radius: f64, rc: f64) -> f64 {
+        (radius * (radius * rc / (radius + rc))).sqrt()
+    }
+
     /// Distance (m) of `pos` from the surface, positive outside (above the plane).
     #[inline]
     pub fn distance(&self, pos: &Vec3) -> f64 {
@@ -123,12 +137,11 @@ impl SpecimenShape {
                 effective_radius: radius,
             },
             SpecimenShape::Cylinder { radius: rc, axis } => {
-                let d = Self::radial(pos, *rc, axis);
-                let l = d.norm();
+                let (l, normal) = Self::radial_normal(&Self::radial(pos, *rc, axis));
                 Touch {
                     gap: (l - rc) - radius,
-                    normal: if l > 0.0 { d / l } else { Vec3::z() },
-                    effective_radius: (radius * (radius * rc / (radius + rc))).sqrt(),
+                    normal,
+                    effective_radius: Self::cylinder_effective_radius(radius, *rc),
                 }
             }
             SpecimenShape::Groove(g) => {
@@ -149,9 +162,7 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => Vec3::z(),
             SpecimenShape::Cylinder { radius, axis } => {
-                let d = Self::radial(pos, *radius, axis);
-                let l = d.norm();
-                if l > 0.0 { d / l } else { Vec3::z() }
+                Self::radial_normal(&Self::radial(pos, *radius, axis)).1
             }
             SpecimenShape::Groove(g) => g.foot(pos).normal,
         }
@@ -178,7 +189,7 @@ impl SpecimenShape {
         match self {
             SpecimenShape::Plane => radius,
             SpecimenShape::Cylinder { radius: rc, .. } => {
-                (radius * (radius * rc / (radius + rc))).sqrt()
+                Self::cylinder_effective_radius(radius, *rc)
             }
             SpecimenShape::Groove(g) => g.effective_radius(pos, radius),
         }
