@@ -374,7 +374,7 @@ impl Groove {
     }
 
     /// [`Groove::distance`] where it is below `reach` in size, to the bit; otherwise a
-    /// value at least `reach` (for points in the air or less than `reach` deep). On a
+    /// value at least `reach` in the air, at most `-reach` in the part. On a
     /// gear the fillet's feet out of reach are not solved for; a rack's foot is cheap
     /// and exact.
     #[inline]

@@ -117,8 +117,9 @@ impl SpecimenShape {
     }
 
     /// [`SpecimenShape::distance`] where it is below `reach` in size, to the bit;
-    /// otherwise a value at least `reach` (for points in the air or less than `reach`
-    /// deep). Cheaper on a gear, whose fillet's feet out of reach are not solved for.
+    /// otherwise a value at least `reach` in the air, at most `-reach` in the part.
+    /// Cheaper on a gear, whose fillet's feet out of reach are not solved for where
+    /// another piece tells the side.
     #[inline]
     pub fn distance_within(&self, pos: &Vec3, reach: f64) -> f64 {
         match self {
@@ -317,16 +318,20 @@ impl SpecimenContact {
         self.shape.normal(pos)
     }
 
-    /// [`SpecimenContact::gap`] where the shot overlaps the surface, to the bit; some
-    /// value of at least 0 otherwise (cheaper on a gear: [`SpecimenShape::distance_within`]).
+    /// [`SpecimenContact::gap`] where the shot overlaps the surface by less than its
+    /// diameter, to the bit; some value of at least 0 where it does not overlap, and at
+    /// most `-2 radius` where it overlaps by more (cheaper on a gear:
+    /// [`SpecimenShape::distance_within`]).
     #[inline]
     pub fn overlap_gap(&self, pos: &Vec3, radius: f64) -> f64 {
         self.shape.distance_within(pos, radius) - radius
     }
 
-    /// A value whose minimum with `cap` is `cap.min(self.gap(pos, radius))` to the bit:
-    /// the gap where it is below `cap`, some value of at least `cap` otherwise (cheaper
-    /// on a gear: [`SpecimenShape::distance_within`]). For a margin that is a minimum.
+    /// A value whose minimum with `cap` is `cap.min(self.gap(pos, radius))` to the bit
+    /// wherever the shot's centre is less than `cap + radius` inside the part: the gap
+    /// where it is below `cap`, some value of at least `cap` otherwise; deeper, a value
+    /// below `cap` still, so that a margin sees the shot in the part (cheaper on a gear:
+    /// [`SpecimenShape::distance_within`]). For a margin that is a minimum.
     #[inline]
     pub fn gap_below(&self, pos: &Vec3, radius: f64, cap: f64) -> f64 {
         // Four roundings' room, so that a value of at least `reach` less `radius` is at
@@ -475,16 +480,13 @@ mod tests {
                 by_speed: None,
                 shape: shape.clone(),
             };
-            let (mut touching, mut clear) = (0, 0);
+            let (mut touching, mut clear, mut deep) = (0, 0, 0);
             let mut rng = ChaCha8Rng::seed_from_u64(1357);
             for _ in 0..10_000 {
                 let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
                 let p = Vec3::new(u(-12e-3, 12e-3), u(-5e-3, 5e-3), u(-1e-3, 10e-3));
                 let v = Vec3::new(u(-5.0, 5.0), u(-5.0, 5.0), u(-20.0, 5.0));
                 let gap = sp.gap(&p, r);
-                if gap < -r {
-                    continue;
-                }
                 let t = sp.touch(&p, r);
                 assert_eq!(t.gap.to_bits(), gap.to_bits());
                 assert_eq!(t.normal, sp.normal(&p));
@@ -512,10 +514,18 @@ mod tests {
                     -2.0 * r,
                 ] {
                     let below = sp.gap_below(&p, r, cap);
-                    assert_eq!(cap.min(below).to_bits(), cap.min(gap).to_bits());
+                    if cap + r <= 0.0 || gap + r > -(cap + r) {
+                        assert_eq!(cap.min(below).to_bits(), cap.min(gap).to_bits());
+                    } else {
+                        // Deeper in the part than the margin's reach: still below it.
+                        assert!(below < cap, "{shape:?} at {p:?}: {below} for {gap}, {cap}");
+                    }
                 }
                 let o = sp.overlap_gap(&p, r);
-                if gap < 0.0 {
+                if gap <= -2.0 * r {
+                    assert!(o <= -2.0 * r, "{shape:?} at {p:?}: {o} for {gap}");
+                    deep += 1;
+                } else if gap < 0.0 {
                     assert_eq!(o.to_bits(), gap.to_bits());
                     touching += 1;
                 } else {
@@ -523,7 +533,10 @@ mod tests {
                     clear += 1;
                 }
             }
-            assert!(touching > 100 && clear > 2_000, "{touching} / {clear}");
+            assert!(
+                touching > 100 && clear > 2_000 && deep > 100,
+                "{touching} / {clear} / {deep}"
+            );
         }
     }
 
