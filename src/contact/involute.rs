@@ -84,9 +84,10 @@ pub(super) struct HalfFoot {
 #[derive(Debug, Clone, Copy)]
 enum Fillet {
     /// Its feet are solved for where a piece may hold a point nearer than the reach and
-    /// than the other pieces' nearest, and where no other piece holds a foot: the
-    /// distance is exact where it is below the reach in size, and otherwise at least the
-    /// reach in size, with its sign (in the air, or deep in the tooth).
+    /// than the other pieces' nearest; where no piece holds a foot, its chords tell the
+    /// side ([`Gear::chord_side`]), or else its feet: the distance is exact where it is
+    /// below the reach in size, and otherwise at least the reach in size, with its sign
+    /// (in the air, or deep in the tooth).
     Within(f64),
     /// It offers its lower bound (zone and normal left unset) instead of being solved.
     Bound,
@@ -146,6 +147,13 @@ pub struct Gear {
     hull: (f64, f64, f64),
     /// The fillet's farthest point from the gear's centre, m.
     fillet_top: f64,
+    /// The fillet's chords: the pieces' ends on the fillet (half frame) and their angles
+    /// from `+y`, root to flank ([`Gear::chord_side`]).
+    chords: [(f64, f64); FILLET_PIECES + 1],
+    chord_angles: [f64; FILLET_PIECES + 1],
+    /// A bound on how far the fillet strays from its chords, m; infinite where the
+    /// chords cannot tell a point's side.
+    chord_gap: f64,
 }
 
 /// `sqrt(x^2 + y^2)` (libm's `hypot` guards against overflow that these lengths, all
@@ -160,6 +168,13 @@ fn len(x: f64, y: f64) -> f64 {
 fn turn_by(p: (f64, f64), cs: (f64, f64)) -> (f64, f64) {
     let (c, s) = cs;
     (p.0 * c + p.1 * s, -p.0 * s + p.1 * c)
+}
+
+/// `R(phi) q` for `cs = (cos phi, sin phi)`: a half frame point in the rack's frame
+/// at rolling angle `phi` (less the rack's travel).
+#[inline]
+fn to_rack(q: (f64, f64), (c, s): (f64, f64)) -> (f64, f64) {
+    (q.0 * c - q.1 * s, q.0 * s + q.1 * c)
 }
 
 /// A length in mm for messages (to the nanometre, no trailing zeros).
@@ -294,6 +309,9 @@ impl Gear {
             groups: [(0.0, 0.0, 0.0); FILLET_GROUPS],
             hull: (0.0, 0.0, 0.0),
             fillet_top: 0.0,
+            chords: [(0.0, 0.0); FILLET_PIECES + 1],
+            chord_angles: [0.0; FILLET_PIECES + 1],
+            chord_gap: f64::INFINITY,
         };
         g.u_fillet = r_f * phi0;
         g.u_flank = g.u_fillet + g.fillet_arc(phi1);
@@ -333,7 +351,65 @@ impl Gear {
             .iter()
             .map(|&(x, y, r)| len(x, y) + r)
             .fold(0.0, f64::max);
+        g.chord_gap = g.chords();
         Ok(g)
+    }
+
+    /// Sets the fillet's chords and returns the bound on their gap from the fillet
+    /// ([`Gear::chord_side`]), or infinity where the chords cannot tell sides.
+    fn chords(&mut self) -> f64 {
+        for i in 0..=FILLET_PIECES {
+            let (p, _) = self.fillet_point(self.ends[i].2);
+            self.chords[i] = p;
+            self.chord_angles[i] = p.0.atan2(p.1);
+        }
+        // The rack's corner, a disc of `rho_f`, is air and touches the fillet from the
+        // air side at every point: the fillet's radius of curvature is at least `rho_f`.
+        // A curve of curvature at most `1 / rho_f` strays from a chord of length at most
+        // `L` (its arc length) by at most `rho_f (1 - sqrt(1 - (L / 2 rho_f)^2)) <= L^2 /
+        // (4 rho_f)` while `L` is short against `rho_f` (the arc then is a graph over its
+        // chord). A piece's arc length is at most twice its middle's reach.
+        let longest = 2.0 * self.mids.iter().map(|m| m.2).fold(0.0, f64::max);
+        let gap = longest * longest / (4.0 * self.rho_f);
+        // Only the fillet's chords may lie between the angles of its ends: they turn one
+        // way from the root (the bottom's end, `phi0`) to the flank (whose angle grows with
+        // the radius from there), and the tip edge's disc lies beyond.
+        let angles = &self.chord_angles;
+        let (ex, ey) = self.e;
+        let edge_lowest = ex.atan2(ey) - (self.rho_e / len(ex, ey)).min(1.0).asin();
+        let one_way = angles.windows(2).all(|w| w[0] < w[1]);
+        if longest <= 0.5 * self.rho_f && one_way && edge_lowest > angles[FILLET_PIECES] {
+            // Twice the bound: room for the roundings of the points and their angles.
+            2.0 * gap
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Whether `q` (half frame, angle `a` from `+y`) is in the air, from the fillet's
+    /// chord at its angle, where `q` lies farther than `reach` from the whole profile:
+    /// `None` where the chords cannot tell (`reach` within their gap, or `a` outside the
+    /// fillet's angles).
+    ///
+    /// Why it holds: between the fillet's end angles the profile is the fillet alone, one
+    /// point at each angle, and so is the polygon that takes the chords for the fillet
+    /// (their angles grow one way): a point there is in its air where it lies beyond the
+    /// chord at its angle, seen from the gear's centre. The two regions differ only
+    /// between each piece and its chord, within `chord_gap` of the fillet; a point
+    /// farther than that from the profile is on the same side of both.
+    #[inline]
+    fn chord_side(&self, q: (f64, f64), a: f64, reach: f64) -> Option<bool> {
+        let angles = &self.chord_angles;
+        if !(reach > self.chord_gap && a >= angles[0] && a <= angles[FILLET_PIECES]) {
+            return None;
+        }
+        let i = angles[1..FILLET_PIECES].partition_point(|&t| t <= a);
+        let (v, w) = (self.chords[i], self.chords[i + 1]);
+        let d = (w.0 - v.0, w.1 - v.1);
+        // The sides of the chord's line where `q` and the gear's centre lie.
+        let side = d.0 * (q.1 - v.1) - d.1 * (q.0 - v.0);
+        let centre = d.1 * v.0 - d.0 * v.1;
+        Some((side < 0.0) == (centre > 0.0))
     }
 
     /// Number of teeth.
@@ -471,10 +547,7 @@ impl Gear {
     #[inline]
     fn fillet_side(&self, q: (f64, f64), cs: (f64, f64), phi: f64) -> f64 {
         let e = self.hb - self.r_p * phi;
-        // R(phi) q: the point in the rack's frame (less the rack's travel).
-        let (c, s) = cs;
-        let qx = q.0 * c - q.1 * s;
-        let qy = q.0 * s + q.1 * c;
+        let (qx, qy) = to_rack(q, cs);
         e * (qy - self.r_p) - self.c * qx
     }
 
@@ -497,9 +570,7 @@ impl Gear {
     #[inline]
     fn fillet_side_slope(&self, q: (f64, f64), cs: (f64, f64), phi: f64) -> f64 {
         let e = self.hb - self.r_p * phi;
-        let (c, s) = cs;
-        let qx = q.0 * c - q.1 * s;
-        let qy = q.0 * s + q.1 * c;
+        let (qx, qy) = to_rack(q, cs);
         // d(qx)/dphi = -qy, d(qy)/dphi = qx, de/dphi = -r_p.
         -self.r_p * (qy - self.r_p) + e * qx + self.c * qy
     }
@@ -558,9 +629,7 @@ impl Gear {
         let d2 = e * e + c * c;
         let d = d2.sqrt();
         let (sn, cn) = phi.sin_cos();
-        // R(phi) q: the point in the rack's frame (less the rack's travel).
-        let qx = q.0 * cn - q.1 * sn;
-        let qy = q.0 * sn + q.1 * cn;
+        let (qx, qy) = to_rack(q, (cn, sn));
         HalfFoot {
             distance: self.rho_f - ((qx - e) * e + (qy - r_p - c) * c) / d,
             normal: self.fillet_normal(e, d, (cn, sn)),
@@ -724,8 +793,12 @@ impl Gear {
         }
         if !best.distance.is_finite() && reach.is_finite() {
             // Only the fillet holds a foot, out of reach: in the air above it or deep in
-            // the tooth under it, which only its foot tells apart.
-            self.fillet_feet(q, &mut best, f64::INFINITY);
+            // the tooth under it. Its chord tells which, where it can (the distance then
+            // is the reach, with its sign); else its foot does.
+            match self.chord_side(q, a, reach) {
+                Some(air) => best.distance = if air { reach } else { -reach },
+                None => self.fillet_feet(q, &mut best, f64::INFINITY),
+            }
         }
         if !best.distance.is_finite() {
             // Deep in the tooth, under no piece: the edge's distance.
@@ -781,7 +854,7 @@ impl Gear {
         let phi = theta - k * self.tau;
         let side = if phi < 0.0 { -1.0 } else { 1.0 };
         // Turned back by the tooth space's angle (`R(r)`), then mirrored onto `x >= 0`.
-        let (sr, cr) = (self.turn + k * self.tau).sin_cos();
+        let (cr, sr) = self.space_turn(k);
         Folded {
             k,
             side,
@@ -1145,6 +1218,60 @@ mod tests {
             exact > 2_000 && beyond > 20_000 && deep > 2_000,
             "{exact} / {beyond} / {deep}"
         );
+    }
+
+    #[test]
+    fn the_fillet_s_chords_tell_the_side_of_points_beyond_their_gap() {
+        // `chord_side` against the exact foot's sign, for points between the fillet's end
+        // angles farther than the reach from the profile, down to a reach just above
+        // the chords' gap, where the side is hardest to tell.
+        let mut rng = ChaCha8Rng::seed_from_u64(13579);
+        let (mut air, mut part) = (0, 0);
+        for z in [18, 24, 30, 80] {
+            let g = gear(z);
+            // The bound is microns for this 4 mm module, below the radius of the finest
+            // shot (0.1 mm): the chords serve every shot.
+            assert!(g.chord_gap < 20e-6, "z {z}: gap {}", g.chord_gap);
+            let (lo, hi) = (g.chord_angles[0], g.chord_angles[FILLET_PIECES]);
+            assert!(
+                (lo - g.phi0).abs() < 1e-12,
+                "z {z}: {lo} against {}",
+                g.phi0
+            );
+            // The bound (half of `chord_gap`, the rest is room) holds every piece.
+            for i in 0..FILLET_PIECES {
+                let (v, w) = (g.chords[i], g.chords[i + 1]);
+                let (dx, dy) = (w.0 - v.0, w.1 - v.1);
+                for j in 1..64 {
+                    let phi = g.ends[i].2 + (g.ends[i + 1].2 - g.ends[i].2) * j as f64 / 64.0;
+                    let (p, _) = g.fillet_point(phi);
+                    let off = ((p.0 - v.0) * dy - (p.1 - v.1) * dx).abs() / len(dx, dy);
+                    assert!(off <= 0.5 * g.chord_gap, "z {z}, piece {i}: {off}");
+                }
+            }
+            for _ in 0..20_000 {
+                let a = lo + (hi - lo) * rng.random::<f64>();
+                let rho = g.r_f + (rng.random::<f64>() - 0.4) * 6e-3;
+                let q = (rho * a.sin(), rho * a.cos());
+                let d = g.half_foot_with(q, a, Fillet::EXACT).distance;
+                let reach = g.chord_gap * (1.0 + 1e-3)
+                    + (d.abs() - g.chord_gap).max(0.0) * rng.random::<f64>();
+                match g.chord_side(q, a, reach) {
+                    Some(side) if d.abs() >= reach => {
+                        assert_eq!(side, d > 0.0, "z {z}: q {q:?}, distance {d}, reach {reach}");
+                        if side {
+                            air += 1;
+                        } else {
+                            part += 1;
+                        }
+                    }
+                    Some(_) => {}
+                    None => panic!("z {z}: no side for {q:?} at {a} within {lo}..{hi}"),
+                }
+                assert!(g.chord_side(q, a, 0.5 * g.chord_gap).is_none());
+            }
+        }
+        assert!(air > 20_000 && part > 20_000, "{air} / {part}");
     }
 
     #[test]
