@@ -710,7 +710,11 @@ fn near_a_wall(phys: &Physics, s: &ShotState, reach: f64, a: f64, t0: f64, t1: f
         .contacts
         .specimen
         .as_ref()
-        .is_some_and(|sp| sp.shape.distance(&s.pos) < reach);
+        // Below a positive reach, the distance within it says the same for less.
+        .is_some_and(|sp| match reach > 0.0 {
+            true => sp.shape.distance_within(&s.pos, reach) < reach,
+            false => sp.shape.distance(&s.pos) < reach,
+        });
     let near_wall = phys
         .contacts
         .wall

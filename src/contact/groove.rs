@@ -27,7 +27,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use super::involute::Gear;
+use super::involute::{Gear, GearFoot};
 use crate::Vec3;
 
 /// Where on the cross-section a surface point lies.
@@ -385,6 +385,25 @@ impl Groove {
         self.distance(pos)
     }
 
+    /// Where a shot of `radius` at `pos` overlaps the surface ([`Groove::distance_within`]
+    /// of `radius`, less `radius`, below 0): its foot and effective radius
+    /// ([`Groove::foot_and_radius`], to the bit); `None` where it does not. On a gear one
+    /// search for the foot serves both where the overlap is below the shot's diameter.
+    #[inline]
+    pub fn overlapping_foot(&self, pos: &Vec3, radius: f64) -> Option<(Foot, f64)> {
+        let r = radius;
+        let Some(g) = &self.gear else {
+            return (self.distance_within(pos, r) - r < 0.0).then(|| self.foot_and_radius(pos, r));
+        };
+        match g.foot_within(pos.dot(&self.across), pos.z, r) {
+            Ok(f) => (f.0 - r < 0.0).then(|| {
+                let (foot, k) = self.gear_foot_of(f);
+                (foot, curved_effective_radius(r, k))
+            }),
+            Err(d) => (d - r < 0.0).then(|| self.foot_and_radius(pos, r)),
+        }
+    }
+
     /// The foot of `pos` ([`Groove::foot`]) and the effective radius of a shot of
     /// `radius` there ([`Groove::effective_radius`]), from one search for the foot.
     #[inline]
@@ -403,7 +422,12 @@ impl Groove {
     /// and the curvature of the piece under it.
     #[inline]
     fn gear_foot(&self, g: &Gear, pos: &Vec3) -> (Foot, f64) {
-        let (distance, n, zone, k) = g.foot(pos.dot(&self.across), pos.z);
+        self.gear_foot_of(g.foot(pos.dot(&self.across), pos.z))
+    }
+
+    /// A gear's cross-section foot in space, and its curvature.
+    #[inline]
+    fn gear_foot_of(&self, (distance, n, zone, k): GearFoot) -> (Foot, f64) {
         let foot = Foot {
             distance,
             normal: self.across * n.0 + Vec3::z() * n.1,

@@ -65,6 +65,10 @@ struct Folded {
     turn: (f64, f64),
 }
 
+/// A cross-section point's foot ([`Gear::foot`]): distance, outward normal `(s, z)`,
+/// zone and curvature.
+pub(super) type GearFoot = (f64, (f64, f64), Zone, f64);
+
 /// A point's foot on the half profile.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct HalfFoot {
@@ -889,9 +893,14 @@ impl Gear {
 
     /// The foot of the cross-section point `(s, z)`: distance, outward normal `(s, z)`,
     /// zone and curvature.
-    pub(super) fn foot(&self, s: f64, z: f64) -> (f64, (f64, f64), Zone, f64) {
+    pub(super) fn foot(&self, s: f64, z: f64) -> GearFoot {
         let h = self.fold_half(s, z);
-        let f = self.half_foot_with(h.q, h.a, Fillet::EXACT);
+        self.unfold_foot(&h, &self.half_foot_with(h.q, h.a, Fillet::EXACT))
+    }
+
+    /// A half frame foot of the folded point `h` in the cross-section.
+    #[inline]
+    fn unfold_foot(&self, h: &Folded, f: &HalfFoot) -> GearFoot {
         (
             f.distance,
             self.unfold_half(h.turn, h.side, f.normal),
@@ -904,11 +913,37 @@ impl Gear {
     /// below `reach` in size (the same as [`Gear::foot`]'s to the bit); otherwise a value
     /// at least `reach` in the air and at most `-reach` in the part. Skips solving for the
     /// fillet's feet out of reach where another piece tells the side: a shot's contact
-    /// check needs no more.
+    /// check needs no more. A point beyond the tip circle by the reach (which holds the
+    /// gear) is not folded: the reach.
     pub(super) fn distance_within(&self, s: f64, z: f64, reach: f64) -> f64 {
+        self.half_within(s, z, reach)
+            .map_or(reach, |(_, f)| f.distance)
+    }
+
+    /// [`Gear::foot`] where the distance of `(s, z)` is below `reach` in size (to the
+    /// bit), from [`Gear::distance_within`]'s search: `Ok` with it there, else `Err` with
+    /// that distance.
+    #[inline]
+    pub(super) fn foot_within(&self, s: f64, z: f64, reach: f64) -> Result<GearFoot, f64> {
+        match self.half_within(s, z, reach) {
+            Some((h, f)) if f.distance.abs() < reach => Ok(self.unfold_foot(&h, &f)),
+            Some((_, f)) => Err(f.distance),
+            None => Err(reach),
+        }
+    }
+
+    /// The folded point and its foot within `reach` ([`Fillet::Within`]); `None` beyond
+    /// the tip circle by the reach.
+    #[inline]
+    fn half_within(&self, s: f64, z: f64, reach: f64) -> Option<(Folded, HalfFoot)> {
+        let (x, y) = (s, z + self.centre_depth());
+        // Room for the roundings of the distance the foot would give.
+        let far = (self.r_a + reach) * (1.0 + 1e-12);
+        if x * x + y * y >= far * far {
+            return None;
+        }
         let h = self.fold_half(s, z);
-        self.half_foot_with(h.q, h.a, Fillet::Within(reach))
-            .distance
+        Some((h, self.half_foot_with(h.q, h.a, Fillet::Within(reach))))
     }
 
     /// The unrolled arc length of the foot of `(s, z)`: from tooth space 0's middle,

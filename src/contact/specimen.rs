@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use super::HertzLaw;
-use super::groove::Groove;
+use super::groove::{Foot, Groove};
 use super::restitution::SpeedLaw;
 use crate::Vec3;
 use crate::state::ShotState;
@@ -44,6 +44,18 @@ pub struct Touch {
     pub normal: Vec3,
     /// Hertz effective radius: [`SpecimenShape::effective_radius`].
     pub effective_radius: f64,
+}
+
+impl Touch {
+    /// A shot of `radius` on a groove's foot with its effective radius.
+    #[inline]
+    fn on_groove((foot, effective_radius): (Foot, f64), radius: f64) -> Touch {
+        Touch {
+            gap: foot.distance - radius,
+            normal: foot.normal,
+            effective_radius,
+        }
+    }
 }
 
 impl SpecimenShape {
@@ -145,13 +157,22 @@ impl SpecimenShape {
                     effective_radius: Self::cylinder_effective_radius(radius, *rc),
                 }
             }
-            SpecimenShape::Groove(g) => {
-                let (foot, effective_radius) = g.foot_and_radius(pos, radius);
-                Touch {
-                    gap: foot.distance - radius,
-                    normal: foot.normal,
-                    effective_radius,
-                }
+            SpecimenShape::Groove(g) => Touch::on_groove(g.foot_and_radius(pos, radius), radius),
+        }
+    }
+
+    /// [`SpecimenShape::touch`] where a shot of `radius` at `pos` overlaps the surface
+    /// ([`SpecimenShape::distance_within`] of `radius`, less `radius`, below 0), to the
+    /// bit; `None` where it does not. On a gear from one search for the foot where the
+    /// overlap is below the shot's diameter.
+    #[inline]
+    pub fn overlap_touch(&self, pos: &Vec3, radius: f64) -> Option<Touch> {
+        match self {
+            SpecimenShape::Groove(g) => g
+                .overlapping_foot(pos, radius)
+                .map(|f| Touch::on_groove(f, radius)),
+            _ => {
+                (self.distance_within(pos, radius) - radius < 0.0).then(|| self.touch(pos, radius))
             }
         }
     }
@@ -350,6 +371,13 @@ impl SpecimenContact {
         self.shape.touch(pos, radius)
     }
 
+    /// [`SpecimenContact::touch`] where [`SpecimenContact::overlap_gap`] is below 0,
+    /// `None` elsewhere: the same numbers, from one search for the foot on a gear.
+    #[inline]
+    pub fn overlap_touch(&self, pos: &Vec3, radius: f64) -> Option<Touch> {
+        self.shape.overlap_touch(pos, radius)
+    }
+
     /// [`SpecimenContact::normal_velocity`] under `touch`.
     #[inline]
     pub fn normal_velocity_at(&self, touch: &Touch, vel: &Vec3) -> f64 {
@@ -522,6 +550,15 @@ mod tests {
                     }
                 }
                 let o = sp.overlap_gap(&p, r);
+                match sp.overlap_touch(&p, r) {
+                    Some(ot) => {
+                        assert!(o < 0.0, "{shape:?} at {p:?}: a touch for {o}");
+                        assert_eq!(ot.gap.to_bits(), t.gap.to_bits());
+                        assert_eq!(ot.normal, t.normal);
+                        assert_eq!(ot.effective_radius.to_bits(), t.effective_radius.to_bits());
+                    }
+                    None => assert!(o >= 0.0, "{shape:?} at {p:?}: no touch for {o}"),
+                }
                 if gap <= -2.0 * r {
                     assert!(o <= -2.0 * r, "{shape:?} at {p:?}: {o} for {gap}");
                     deep += 1;

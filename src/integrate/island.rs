@@ -781,11 +781,11 @@ impl Ctx<'_> {
                 // delta^(1/4) jump weighted over the whole step (measured: 7.6e-5 of the
                 // normal speed at 10 m/s). The contact then misses at most the
                 // `1e-9 R` of overlap the location leaves, i.e. ~1e-14 s of force.
-                if sp.overlap_gap(&p, m.body.radius) < 0.0
-                    && (m.on_specimen || !self.onsets_located)
+                // One search for the foot serves the overlap, the gap, the normal and the
+                // radius.
+                if (m.on_specimen || !self.onsets_located)
+                    && let Some(touch) = sp.overlap_touch(&p, m.body.radius)
                 {
-                    // One search for the foot serves the gap, the normal and the radius.
-                    let touch = sp.touch(&p, m.body.radius);
                     let gap = touch.gap;
                     let k = sp.law.stiffness(touch.effective_radius);
                     // A contact pushing at the step's start: its force unclamped, so the
@@ -980,10 +980,9 @@ impl Ctx<'_> {
             let mut on_specimen = false;
             if moves
                 && let Some(sp) = &c.specimen
-                && sp.overlap_gap(&p, m.body.radius) < 0.0
+                && let Some(touch) = sp.overlap_touch(&p, m.body.radius)
             {
                 on_specimen = true;
-                let touch = sp.touch(&p, m.body.radius);
                 let gap = touch.gap;
                 let k = sp.law.stiffness(touch.effective_radius);
                 let vn = sp.normal_velocity_at(&touch, &v);
@@ -2000,7 +1999,13 @@ impl Ctx<'_> {
             }
             let p = pos(y, i);
             let r = m.body.radius;
-            if let Some(sp) = &c.specimen {
+            // The cheaper gap first (exact to a diameter's overlap, beyond it at least
+            // one), the exact one for the message.
+            if let Some(sp) = c
+                .specimen
+                .as_ref()
+                .filter(|sp| sp.overlap_gap(&p, r) < -0.5 * r)
+            {
                 let overlap = -sp.gap(&p, r);
                 if overlap > 0.5 * r {
                     return Some(format!(
@@ -2117,9 +2122,11 @@ impl Ctx<'_> {
         let c = &self.phys.contacts;
         for (k, m) in ms.iter_mut().enumerate() {
             let p = pos(y, lo + k);
+            // The cheaper gap has the gap's sign, but may be 0 for a positive gap.
             if m.on_specimen
                 && let Some(sp) = &c.specimen
-                && sp.gap(&p, m.body.radius) > 0.0
+                && let g = sp.overlap_gap(&p, m.body.radius)
+                && (g > 0.0 || (g == 0.0 && sp.gap(&p, m.body.radius) > 0.0))
             {
                 m.on_specimen = false;
             }
