@@ -1850,10 +1850,13 @@ impl Simulation {
     fn window(&mut self, t1: f64) -> f64 {
         let t0 = self.t;
         self.windows += 1;
-        // A shot that stopped meanwhile must not leave a stale contact behind.
-        self.pairs.retain(|k, _| {
-            self.shots[k.0 as usize].is_active() && self.shots[k.1 as usize].is_active()
-        });
+        // A shot that stopped meanwhile must not leave a stale contact behind, nor one
+        // whose entry was held back after its onset with a shot at the inlet was found
+        // (`island::hold_entries`): it has not entered yet, and its partner may fall
+        // asleep before it does.
+        let live = |s: &ShotState| s.is_active() && s.t_start <= t0;
+        self.pairs
+            .retain(|k, _| live(&self.shots[k.0 as usize]) && live(&self.shots[k.1 as usize]));
         self.admit(|t| t < t1);
         self.wake_sleepers(t0, |z| z.due(t1));
         loop {
