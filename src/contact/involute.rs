@@ -1241,8 +1241,8 @@ mod tests {
             let line = polyline(&g, 60_000);
             for i in 0..1_500 {
                 let (s, zz) = if i % 3 == 0 {
-                    // The space's middle above the root, where a point lies on two of
-                    // the fillet's normals, the nearer not the first from the root.
+                    // The space's middle above the root, where a point can lie on two
+                    // of the fillet's normals.
                     let (x, y) = (0.5 * rng.random::<f64>(), 0.5 + 1.5 * rng.random::<f64>());
                     (x * g.rho_f, y * g.rho_f)
                 } else {

@@ -1999,8 +1999,8 @@ impl Ctx<'_> {
             }
             let p = pos(y, i);
             let r = m.body.radius;
-            // The cheaper gap first (exact to a diameter's overlap, beyond it at least
-            // one), the exact one for the message.
+            // The cheaper gap first (exact up to an overlap of a diameter, an overlap of
+            // at least a diameter beyond), the exact one for the message.
             if let Some(sp) = c
                 .specimen
                 .as_ref()
