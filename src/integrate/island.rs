@@ -2829,11 +2829,12 @@ fn advance_adaptive(
         if !members.iter().any(|m| m.is_active()) {
             break;
         }
-        if ctx.apply_events(members, pairs, t, y, out) {
-            dopri.invalidate();
-        }
+        // A shot held back here is not moving at `t`: no onset with it is found.
         if holds {
             hold_entries(members, pairs, (t, t), y, &mut work);
+        }
+        if ctx.apply_events(members, pairs, t, y, out) {
+            dopri.invalidate();
         }
         if until_onset && in_contact(members, pairs) {
             break;
