@@ -82,6 +82,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         rho_ambient: scene.air.rho_ambient,
         lip_density_cap: scene.jet.lip_density_cap,
         model: scene.jet.model,
+        layer: scene.jet.stagnation_layer,
     });
     let forces = ForceSet {
         drag: effects.drag.then_some(drag_law),

@@ -221,6 +221,16 @@ impl Scene {
             };
             decisions.push(EffectDecision { name, on, reason });
         }
+        // The air's stagnation layer above the plate (beyond the paper): the drag and the
+        // lateral force see it.
+        if let Some(delta) = self.jet.stagnation_layer
+            && let Some(force) = decisions[..2].iter_mut().find(|d| d.on)
+        {
+            force.reason += &format!(
+                "; the air slows in a stagnation layer {} mm above the plate",
+                super::validate::num(delta * 1e3)
+            );
+        }
         // The shot-specimen law, when it is not one constant: say so where the run lists
         // its effects.
         if let (Some(curve), true) = (&self.restitution.shot_specimen_curve, decisions[3].on) {

@@ -173,6 +173,9 @@ pub struct JetFile {
     /// Turbulence intensity of the mixing layer and developed jet, a fraction of the
     /// local mean air speed (beyond the paper; 0: off). Drives `turbulent_dispersion`.
     pub turbulence_intensity: f64,
+    /// Thickness of the stagnation layer above a flat specimen, mm (beyond the paper;
+    /// left out: the free jet runs on into the part, as the paper's).
+    pub stagnation_layer_mm: Option<f64>,
 }
 
 impl Default for JetFile {
@@ -185,6 +188,7 @@ impl Default for JetFile {
             lift_coefficient: 0.15,
             divergence_tan: 0.1,
             turbulence_intensity: 0.0,
+            stagnation_layer_mm: None,
         }
     }
 }

@@ -646,6 +646,18 @@ impl SceneFile {
                 B::In(0.5),
                 "",
             )?,
+            stagnation_layer: match j.stagnation_layer_mm {
+                Some(v) => Some(
+                    c.range(
+                        "jet.stagnation_layer_mm",
+                        v,
+                        B::Ex(0.0),
+                        B::In(n.standoff_mm),
+                        "mm (up to nozzle.standoff_mm)",
+                    )? * 1e-3,
+                ),
+                None => None,
+            },
         };
 
         // Shot sizes.
@@ -1543,6 +1555,13 @@ impl SceneFile {
                 "shots.feed.type",
                 "\"bed\" rests its layers on a flat specimen: use [specimen] shape = \"plane\" \
                  for a bed",
+            ));
+        }
+        if jet.stagnation_layer.is_some() && !specimen_shape.is_plane() {
+            return Err(c.invalid(
+                "jet.stagnation_layer_mm",
+                "the stagnation layer is modelled above a flat specimen only: use [specimen] \
+                 shape = \"plane\", or leave jet.stagnation_layer_mm out",
             ));
         }
         let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
