@@ -12,7 +12,7 @@ they are the loader doing its job.
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
                                    [--dense] [--vacuum] [--verlet [--history] [--events]
                                    [--hybrid]] [--curves] [--cylinder | --groove | --gear]
-                                   [--layer]
+                                   [--layer [--wall-jet]]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -289,14 +289,21 @@ def nozzle_table(bore, length, standoff, angle, azimuth):
     ]
 
 
-def with_layer(r, text):
+def with_layer(r, text, wall_jet=False):
     """The scene with a stagnation layer above its plate (`jet.stagnation_layer_mm`, from
-    a twentieth of the stand-off to all of it), if it has air and a plate."""
+    a twentieth of the stand-off to all of it), if it has air and a plate; with
+    `wall_jet`, its wall jet too (`jet.wall_jet`), the jet turned normal to the plate
+    (the wall jet's condition; the draw is the same, so the layer is the one --layer
+    draws). Layers too thin for their wall jet are refused with a message."""
     m = re.search(r"standoff_mm = ([0-9.]+)", text)
     if "[jet]\n" not in text or "shape = " in text or not m:
         return text
     delta = r.uniform(0.05, 1.0) * float(m.group(1))
-    return text.replace("[jet]\n", f"[jet]\nstagnation_layer_mm = {delta:.3f}\n")
+    keys = f"stagnation_layer_mm = {delta:.3f}\n"
+    if wall_jet:
+        keys += "wall_jet = true\n"
+        text = re.sub(r"(?m)^angle_deg = [0-9.]+$", "angle_deg = 90.00", text)
+    return text.replace("[jet]\n", "[jet]\n" + keys)
 
 
 def scene(r):
@@ -680,10 +687,15 @@ def main():
     ap.add_argument("--layer", action="store_true",
                     help="a stagnation layer above the plate (`jet.stagnation_layer_mm`, "
                          "random thickness up to the stand-off) in the scenes with air")
+    ap.add_argument("--wall-jet", action="store_true",
+                    help="with --layer: the layer's wall jet too (`jet.wall_jet`), the jet "
+                         "normal to the plate")
     ap.add_argument("--events", action="store_true",
                     help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
                          "scenes without air: --ballistic or --vacuum)")
     a = ap.parse_args()
+    if a.wall_jet and not a.layer:
+        ap.error("--wall-jet needs --layer (the wall jet is the layer's air)")
     if a.history and not a.verlet:
         ap.error("--history needs --verlet (the history law runs on the fixed-step method)")
     if a.hybrid and not a.verlet:
@@ -697,6 +709,7 @@ def main():
                  "needs scenes without air)")
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
+    layered, walled = 0, 0
     for k in range(a.count):
         r = random.Random(a.seed * 1_000_003 + k)
         path = os.path.join(a.out, f"scene_{a.seed}_{k}.toml")
@@ -724,11 +737,14 @@ def main():
         if a.gear:
             text = with_gear(random.Random(a.seed * 1_000_003 + k + 1_100_000_017), text)
         if a.layer:
-            text = with_layer(random.Random(a.seed * 1_000_003 + k + 1_300_000_021), text)
+            text = with_layer(random.Random(a.seed * 1_000_003 + k + 1_300_000_021), text,
+                              a.wall_jet)
         if a.events:
             # No draw either.
             for m in ("verlet", "hybrid"):
                 text = text.replace(f'method = "{m}"\n', f'method = "{m}"\nscheduler = "events"\n')
+        layered += "stagnation_layer_mm" in text
+        walled += "wall_jet = true" in text
         with open(path, "w") as f:
             f.write(text)
         out = os.path.join(a.out, f"out_{a.seed}_{k}")
@@ -746,6 +762,7 @@ def main():
     print(
         f"{a.count} scenes in {time.time() - t0:.0f} s: {failed} went wrong, "
         f"{refused} refused with a message, {a.count - failed - refused} ran clean"
+        + (f" ({layered} with a stagnation layer, {walled} with its wall jet)" if a.layer else "")
     )
     sys.exit(1 if failed else 0)
 

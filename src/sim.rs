@@ -83,6 +83,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         lip_density_cap: scene.jet.lip_density_cap,
         model: scene.jet.model,
         layer: scene.jet.stagnation_layer,
+        wall_jet: scene.jet.wall_jet,
     });
     let forces = ForceSet {
         drag: effects.drag.then_some(drag_law),
@@ -1219,7 +1220,8 @@ impl Simulation {
     pub fn from_parts(physics: Physics, mut shots: Vec<ShotState>, end: f64) -> Self {
         if let Some(field) = &physics.forces.field {
             for s in &mut shots {
-                s.region = field.region_of(&field.coords(&s.pos));
+                let pos = s.pos;
+                s.locate(field, &pos);
             }
         }
         let mut by_start: Vec<usize> = (0..shots.len()).collect();
@@ -1403,7 +1405,8 @@ impl Simulation {
         if let Some((feed, next)) = &mut self.feed {
             while let Some(mut s) = next.take() {
                 if let Some(field) = &self.physics.forces.field {
-                    s.region = field.region_of(&field.coords(&s.pos));
+                    let pos = s.pos;
+                    s.locate(field, &pos);
                 }
                 sink.shot(&s);
                 *next = feed
@@ -1446,7 +1449,8 @@ impl Simulation {
         if let Some((mut feed, mut next)) = self.feed.take() {
             while let Some(mut s) = next {
                 if let Some(field) = &self.physics.forces.field {
-                    s.region = field.region_of(&field.coords(&s.pos));
+                    let pos = s.pos;
+                    s.locate(field, &pos);
                 }
                 self.by_start.push(s.id.0 as usize);
                 self.shots.push(s);
@@ -1599,7 +1603,8 @@ impl Simulation {
                 .next_shot()
                 .expect("BUG: the stream was checked when the run was set up");
             if let Some(field) = &self.physics.forces.field {
-                s.region = field.region_of(&field.coords(&s.pos));
+                let pos = s.pos;
+                s.locate(field, &pos);
             }
             self.live.push(s.id.0 as usize);
             self.shots.push(s);

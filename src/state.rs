@@ -5,7 +5,7 @@
 //! global array is touched once per window per shot.
 
 use crate::Vec3;
-use crate::flow::Region;
+use crate::flow::{JetField, Region};
 use crate::forces::ShotBody;
 use serde::Serialize;
 
@@ -72,6 +72,9 @@ pub struct ShotState {
     pub status: ShotStatus,
     /// Jet region frozen for the current step.
     pub region: Region,
+    /// Below the top of the jet's stagnation layer at the current step's start: the top is
+    /// a located border, as the regions' are (`JetField::layer_margin`).
+    pub in_layer: bool,
     /// In contact with the specimen.
     pub on_specimen: bool,
     /// Sliding on the specimen: a lone shot whose persistent specimen contact has settled
@@ -144,6 +147,7 @@ impl ShotState {
             t_start,
             status: ShotStatus::Active,
             region: Region::Outside,
+            in_layer: false,
             on_specimen: false,
             sliding: false,
             specimen_contact_time: 0.0,
@@ -165,6 +169,14 @@ impl ShotState {
             ahead: None,
             verlet_acc: None,
         }
+    }
+
+    /// Sets the shot's jet region and its side of the stagnation layer's top for a
+    /// centre at `pos`.
+    #[inline]
+    pub fn locate(&mut self, field: &JetField, pos: &Vec3) {
+        self.region = field.region_of(&field.coords(pos));
+        self.in_layer = field.in_layer(pos);
     }
 
     /// Whether the shot is still integrated.

@@ -125,6 +125,13 @@ pub struct JetField {
     /// [`stagnation_factor`]`(z / delta)`, so that it vanishes at the wall; its component
     /// along the plate is the free jet's. Densities stay the free jet's.
     pub layer: Option<f64>,
+    /// Whether the air the layer stops flows out along the plate (the wall jet, beyond
+    /// the paper; only with a layer and a jet normal to the plate): a radial velocity
+    /// [`stagnation_slope`]`(z / delta) / delta` times `r` [`JetField::enclosed_mean`],
+    /// which is what continuity asks of the layer's slowed normal flow (within the
+    /// layer the air then conserves mass as well as the free jet does, times the
+    /// layer's factor).
+    pub wall_jet: bool,
 }
 
 /// The share of the free jet's normal air speed left at height `x` layer thicknesses
@@ -141,6 +148,36 @@ pub fn stagnation_factor(x: f64) -> f64 {
         x * (2.0 - x)
     }
 }
+
+/// The slope `f'(x)` of [`stagnation_factor`]: `2 (1 - x)` in the layer (2 at the wall),
+/// 0 above it. The wall jet's radial speed is proportional to it: the normal flow the
+/// layer takes away at height `x`, turned aside.
+#[inline]
+pub fn stagnation_slope(x: f64) -> f64 {
+    if x >= 1.0 {
+        0.0
+    } else if x <= 0.0 {
+        2.0
+    } else {
+        2.0 * (1.0 - x)
+    }
+}
+
+/// `(1 - exp(-q)) / q`, 1 at `q = 0` (the developed jet's enclosed flow over its axis'
+/// share).
+#[inline]
+fn expm1_ratio(q: f64) -> f64 {
+    if q < 1e-3 {
+        // The series to `q^4` (its next term is below 1e-17).
+        1.0 - q * (0.5 - q * (1.0 / 6.0 - q * (1.0 / 24.0 - q / 120.0)))
+    } else {
+        -(-q).exp_m1() / q
+    }
+}
+
+/// `1 - exp(-94 / 25)`: the share of the developed jet's Gaussian flow (its speed
+/// `exp(-94 (r/s)^2)`) within its edge `r = s/5` (checked against `exp_m1` in the tests).
+const DEVELOPED_EDGE_FLOW: f64 = 0.976716259625103;
 
 impl JetField {
     /// Nozzle-frame coordinates of `pos`.
@@ -181,6 +218,26 @@ impl JetField {
             Region::Developed
         } else {
             Region::Outside
+        }
+    }
+
+    /// Whether a centre at `pos` is below the stagnation layer's top (false without one).
+    #[inline]
+    pub fn in_layer(&self, pos: &Vec3) -> bool {
+        self.layer.is_some_and(|delta| pos.z < delta)
+    }
+
+    /// Signed margin (m) of a centre at `pos` against crossing the stagnation layer's top
+    /// from the side `in_layer` (below it if true): positive on that side, zero on the
+    /// top; infinite without a layer. The top is smooth in the air's value but not in
+    /// its slopes (the normal speed's second derivative, the wall jet's first), so the
+    /// integrator locates its crossings as it does the regions' borders.
+    #[inline]
+    pub fn layer_margin(&self, pos: &Vec3, in_layer: bool) -> f64 {
+        match self.layer {
+            Some(delta) if in_layer => delta - pos.z,
+            Some(delta) => pos.z - delta,
+            None => f64::INFINITY,
         }
     }
 
@@ -237,7 +294,13 @@ impl JetField {
         if let Some(delta) = self.layer
             && pos.z < delta
         {
-            velocity.z *= stagnation_factor(pos.z / delta);
+            let x = pos.z / delta;
+            velocity.z *= stagnation_factor(x);
+            if self.wall_jet {
+                // The jet is normal to the plate: the offset from the axis lies in it.
+                let mean = self.enclosed_mean(&c, region, u);
+                velocity += c.offset * (stagnation_slope(x) / delta * mean);
+            }
         }
         FlowSample {
             velocity,
@@ -291,6 +354,62 @@ impl JetField {
         }
     }
 
+    /// `J = (1/r^2) int_0^r u(r', s) r' dr'` (m/s) at the point's `s`, by the laws of
+    /// `region` (the jet's axial speed `u` of Eqs 9-11): the axial flow through the disc
+    /// of radius `r` across the jet, over `pi r^2`, halved. Finite on the axis (half the
+    /// axial speed there); beyond the jet's edge the whole jet's flow over `r^2`, so the
+    /// wall jet's radial speed `r J` falls as `1/r` there. Continuous across the radial
+    /// borders (the core's edge, the mixing layer's and the developed jet's outer edges);
+    /// it jumps at `s = 5d` with the paper's field (model-notes defect 4). `u` is the
+    /// axial speed at the point by the same laws ([`Self::speed_density`]'s): the
+    /// developed jet's Gaussian is read off it rather than computed again.
+    pub fn enclosed_mean(&self, c: &JetCoords, region: Region, u: f64) -> f64 {
+        let d = self.bore;
+        let ui = self.exit_velocity;
+        let s = c.s.max(1e-9 * d);
+        let r2 = c.r * c.r;
+        // `int_0^r u r' dr'` of the core and mixing layer, `r` beyond the core's edge.
+        let near = |r: f64| {
+            let rc = ((5.0 * d - s) / 10.0).max(0.0);
+            let ro = (5.0 * d + s) / 10.0;
+            0.5 * ui * rc * rc
+                + 5.0 * ui / s * (ro * (r * r - rc * rc) / 2.0 - (r * r * r - rc * rc * rc) / 3.0)
+        };
+        // Half the developed jet's axial speed on its axis, and its Gaussian's `94 / s^2`.
+        let developed = || (3.0 * d * ui / s, 94.0 / (s * s));
+        match region {
+            Region::Nozzle | Region::Core => 0.5 * ui,
+            Region::Mixing | Region::Lip => {
+                if r2 < 1e-24 {
+                    0.5 * ui
+                } else {
+                    near(c.r) / r2
+                }
+            }
+            Region::Developed => {
+                // `(u_0 / 2) (1 - exp(-q)) / q` with `u = u_0 exp(-q)`; near the axis,
+                // where the difference cancels, by its series.
+                let (half, k) = developed();
+                let q = k * r2;
+                if q < 1e-3 {
+                    half * expm1_ratio(q)
+                } else {
+                    (half - 0.5 * u) / q
+                }
+            }
+            Region::Outside if c.s < 0.0 => 0.0,
+            Region::Outside if s <= 5.0 * d => {
+                let ro = (5.0 * d + s) / 10.0;
+                near(ro) / r2.max(ro * ro)
+            }
+            Region::Outside => {
+                let (half, k) = developed();
+                let edge = 0.04 * s * s;
+                half * DEVELOPED_EDGE_FLOW / (k * r2.max(edge))
+            }
+        }
+    }
+
     /// The plane `s_cap` up to which the paper's Eq 5 density `0.75 rho* ((5d/s)^2 - 1)`
     /// is capped at [`JetField::lip_density_cap`] (the end of [`Region::Lip`]); 0 in the
     /// consistent model, which has no cap.
@@ -305,9 +424,63 @@ impl JetField {
     }
 
     /// Largest air speed anywhere in the field, m/s (`1.2 u_i` at the start of the
-    /// developed region, Eq 11). Used for conservative reach bounds.
+    /// developed region, Eq 11; with a wall jet, a bound on its radial speed added across:
+    /// `r J <= u_i d / 2` everywhere, so the radial speed stays below `u_i d / delta`).
+    /// Used for conservative reach bounds.
     pub fn max_speed(&self) -> f64 {
-        1.2 * self.exit_velocity
+        let axial = 1.2 * self.exit_velocity;
+        match self.layer {
+            Some(delta) if self.wall_jet => axial.hypot(self.exit_velocity * self.bore / delta),
+            _ => axial,
+        }
+    }
+
+    /// The wall jet's fastest air at the wall (its radial speed at `z = 0`, the largest
+    /// over the distance from the axis) over the free jet's axial speed on the axis at
+    /// the wall: the wall jet's fastest air is not to outrun the jet that feeds it. A
+    /// property of the bore, the stand-off and the layer alone (speeds scale with `u_i`);
+    /// the jet is normal to the plate.
+    pub fn wall_jet_peak_ratio(bore: f64, standoff: f64, delta: f64) -> f64 {
+        let f = JetField {
+            exit: Vec3::new(0.0, 0.0, standoff),
+            axis: Vec3::new(0.0, 0.0, -1.0),
+            bore,
+            length: bore,
+            exit_velocity: 1.0,
+            rho_core: 1.0,
+            rho_exit: 1.0,
+            rho_ambient: 1.0,
+            lip_density_cap: 1.0,
+            model: JetModel::Consistent,
+            layer: Some(delta),
+            wall_jet: true,
+        };
+        let radial = |r: f64| {
+            let p = Vec3::new(r, 0.0, 0.0);
+            f.sample(&p, f.region_of(&f.coords(&p))).velocity.x
+        };
+        let foot = f.coords(&Vec3::zeros());
+        let (on_axis, _) = f.speed_density(&foot, f.region_of(&foot));
+        // The radial speed rises from 0 on the axis to one maximum near the jet's edge
+        // and falls as 1/r beyond it: a scan, then golden sections around the best.
+        let reach = standoff.max(5.0 * bore);
+        let n = 2000;
+        let dr = reach / n as f64;
+        let best = (1..=n)
+            .map(|i| i as f64 * dr)
+            .max_by(|a, b| radial(*a).total_cmp(&radial(*b)))
+            .unwrap_or(dr);
+        let (mut lo, mut hi) = ((best - dr).max(0.0), best + dr);
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        for _ in 0..60 {
+            let (a, b) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if radial(a) < radial(b) {
+                lo = a;
+            } else {
+                hi = b;
+            }
+        }
+        radial(0.5 * (lo + hi)).max(radial(best)) / on_axis
     }
 
     /// Largest air density anywhere in the field, kg/m^3.
@@ -337,6 +510,7 @@ pub(crate) mod tests {
             lip_density_cap: 8.435,
             model,
             layer: None,
+            wall_jet: false,
         }
     }
 
@@ -491,5 +665,227 @@ pub(crate) mod tests {
                 a.velocity
             );
         }
+    }
+
+    /// A jet normal to a plate at `standoff` (m), with a layer `delta` (m) and a wall jet.
+    fn wall_jet_field(model: JetModel, standoff: f64, delta: f64) -> JetField {
+        let mut f = paper_field(model);
+        f.exit = Vec3::new(0.0, 0.0, standoff);
+        f.layer = Some(delta);
+        f.wall_jet = true;
+        f
+    }
+
+    /// The wall jet is the layer's slowed normal flow turned aside: within the layer the
+    /// air's divergence is the free jet's times the layer's factor `f(z / delta)` (the
+    /// paper's axial jet is not itself divergence-free: it speeds up and slows down along
+    /// its axis without drawing air in). Central differences of `sample` in x, y and z
+    /// (fourth order, steps of 0.1 um) at points all over the layer, in the developed jet
+    /// (a 100 mm stand-off), in the core and mixing layer (20 mm), and beyond the jet's
+    /// edge; tolerance 1e-6 of the terms' sizes (`u / delta` and the three derivatives').
+    #[test]
+    fn the_wall_jet_conserves_the_mass_the_layer_stops() {
+        for (standoff, delta) in [(0.1, 0.014), (0.1, 0.006), (0.02, 0.004), (0.02, 0.02)] {
+            for model in [JetModel::Paper, JetModel::Consistent] {
+                let layered = wall_jet_field(model, standoff, delta);
+                let free = JetField {
+                    layer: None,
+                    wall_jet: false,
+                    ..layered.clone()
+                };
+                // Fourth-order central differences, and the sum of the three terms' sizes.
+                let h = 1e-7;
+                let div = |f: &JetField, p: Vec3, region| {
+                    let v = |dp: Vec3| f.sample(&(p + dp), region).velocity;
+                    let d = |e: Vec3, k: usize| {
+                        (8.0 * (v(e * h) - v(-e * h))[k] - (v(e * 2.0 * h) - v(-e * 2.0 * h))[k])
+                            / (12.0 * h)
+                    };
+                    let terms = [d(Vec3::x(), 0), d(Vec3::y(), 1), d(Vec3::z(), 2)];
+                    (
+                        terms.iter().sum::<f64>(),
+                        terms.iter().map(|t| t.abs()).sum::<f64>(),
+                    )
+                };
+                let mut checked = 0;
+                for i in 1..20 {
+                    let z = delta * i as f64 / 20.0;
+                    for j in 0..60 {
+                        let r = 0.45e-3 * j as f64 + 0.1e-3;
+                        let p = Vec3::new(0.6 * r, 0.8 * r, z);
+                        let c = layered.coords(&p);
+                        let region = layered.region_of(&c);
+                        // Stencils that straddle a border or the layer's top see a jump.
+                        let near_border = [-1.0, 1.0].iter().any(|&sx| {
+                            [Vec3::x(), Vec3::y(), Vec3::z()].iter().any(|e| {
+                                let q = layered.coords(&(p + e * (3.0 * h * sx)));
+                                layered.region_of(&q) != region
+                            })
+                        });
+                        if near_border || (z - delta).abs() < 3.0 * h {
+                            continue;
+                        }
+                        let (u, _) = layered.speed_density(&c, region);
+                        let (free_div, free_size) = div(&free, p, region);
+                        let want = stagnation_factor(z / delta) * free_div;
+                        let (got, size) = div(&layered, p, region);
+                        let scale = (u.abs() + 1.0) / delta + size + free_size;
+                        assert!(
+                            (got - want).abs() < 1e-6 * scale,
+                            "standoff {standoff}, delta {delta}, {region:?} at r = {r}, z = {z}: \
+                             divergence {got} against {want} (scale {scale})"
+                        );
+                        checked += 1;
+                    }
+                }
+                assert!(checked > 800, "{checked} points");
+            }
+        }
+    }
+
+    #[test]
+    fn the_developed_jet_s_edge_flow_is_its_gaussian_s() {
+        assert_eq!(DEVELOPED_EDGE_FLOW, -(-94.0f64 / 25.0).exp_m1());
+    }
+
+    /// The flow enclosed within `r` is the same by the laws on either side of a radial
+    /// border (the core's edge, the mixing layer's and the developed jet's outer edges),
+    /// so the wall jet has no jump there; and it is the integral of the axial speed
+    /// (composite Simpson, 2,000 intervals between borders) in every region.
+    #[test]
+    fn the_enclosed_flow_is_continuous_and_is_the_integral() {
+        let f = wall_jet_field(JetModel::Paper, 0.1, 0.014);
+        let d = f.bore;
+        let j = |s: f64, r: f64, region| {
+            let c = at(&f, s, r);
+            f.enclosed_mean(&c, region, f.speed_density(&c, region).0)
+        };
+        for s in [0.5 * d, 2.0 * d, 4.5 * d] {
+            let (rc, ro) = ((5.0 * d - s) / 10.0, (5.0 * d + s) / 10.0);
+            let (a, b) = (j(s, rc, Region::Core), j(s, rc, Region::Mixing));
+            assert!(
+                (a / b - 1.0).abs() < 1e-12,
+                "core edge at s = {s}: {a} against {b}"
+            );
+            let (a, b) = (j(s, ro, Region::Mixing), j(s, ro, Region::Outside));
+            assert!(
+                (a / b - 1.0).abs() < 1e-12,
+                "mixing edge at s = {s}: {a} against {b}"
+            );
+        }
+        for s in [5.5 * d, 10.0 * d, 16.0 * d] {
+            let (a, b) = (
+                j(s, s / 5.0, Region::Developed),
+                j(s, s / 5.0, Region::Outside),
+            );
+            assert!(
+                (a / b - 1.0).abs() < 1e-12,
+                "developed edge at s = {s}: {a} against {b}"
+            );
+        }
+        for (s, r) in [(2.0 * d, 0.2 * d), (2.0 * d, 0.55 * d), (2.0 * d, 1.5 * d)]
+            .into_iter()
+            .chain([
+                (10.0 * d, 1e-5 * d),
+                (10.0 * d, 0.01 * d),
+                (10.0 * d, 1.2 * d),
+            ])
+            .chain([(10.0 * d, 3.0 * d), (16.0 * d, 0.9 * d)])
+        {
+            let region = f.region_of(&at(&f, s, r));
+            // Simpson on each piece between the radial borders (the air jumps at the
+            // jet's edge and bends at the core's), none beyond the edge.
+            let borders = if s <= 5.0 * d {
+                vec![0.0, (5.0 * d - s) / 10.0, (5.0 * d + s) / 10.0]
+            } else {
+                vec![0.0, s / 5.0]
+            };
+            let simpson = |lo: f64, hi: f64| {
+                let n = 2000;
+                let h = (hi - lo) / n as f64;
+                let piece = f.region_of(&at(&f, s, 0.5 * (lo + hi)));
+                (0..=n)
+                    .map(|i| {
+                        let ri = lo + i as f64 * h;
+                        let w = if i == 0 || i == n {
+                            1.0
+                        } else {
+                            [2.0, 4.0][i % 2]
+                        };
+                        w * ri * f.speed_density(&at(&f, s, ri), piece).0
+                    })
+                    .sum::<f64>()
+                    * h
+                    / 3.0
+            };
+            let integral: f64 = borders
+                .windows(2)
+                .map(|w| (w[0], w[1].min(r)))
+                .filter(|(lo, hi)| hi > lo)
+                .map(|(lo, hi)| simpson(lo, hi))
+                .sum();
+            let want = integral / (r * r);
+            let got = j(s, r, region);
+            // Simpson across a border's jump in slope (the core's edge, the jet's edge)
+            // is second order: 2,000 intervals still give 1e-6.
+            assert!(
+                (got / want - 1.0).abs() < 1e-6,
+                "{region:?} s = {s}, r = {r}: {got} against {want}"
+            );
+        }
+    }
+
+    /// On the axis the wall jet has no radial speed; everywhere its air stays within
+    /// `max_speed` (the reach bounds' speed); its peak at the wall is the one
+    /// `wall_jet_peak_ratio` reports. The developed jet's peak is `(2 / delta) max_r
+    /// int_0^r u r' dr' / r` with `u = (6 d u_i / s) exp(-94 (r/s)^2)`: `0.395 d u_i /
+    /// delta` whatever `s`, found here by an independent scan of the closed form.
+    #[test]
+    fn the_wall_jet_s_peak_and_bound() {
+        let (standoff, delta) = (0.1, 0.014);
+        let f = wall_jet_field(JetModel::Paper, standoff, delta);
+        let (d, ui) = (f.bore, f.exit_velocity);
+        for z in [0.0, 0.003, 0.01] {
+            let p = Vec3::new(0.0, 0.0, z);
+            let v = f.sample(&p, f.region_of(&f.coords(&p))).velocity;
+            assert_eq!((v.x, v.y), (0.0, 0.0));
+        }
+        let (mut fastest, mut radial): (f64, f64) = (0.0, 0.0);
+        for i in 0..400 {
+            for j in 0..40 {
+                let p = Vec3::new(1e-4 * i as f64, 0.0, delta * j as f64 / 40.0);
+                let v = f.sample(&p, f.region_of(&f.coords(&p))).velocity;
+                fastest = fastest.max(v.norm());
+                if j == 0 {
+                    radial = radial.max(v.x);
+                }
+                assert!(v.x >= 0.0, "the wall jet flows out: {v} at {p}");
+            }
+        }
+        assert!(fastest <= f.max_speed(), "{fastest} > {}", f.max_speed());
+        let best = (1..200_000)
+            .map(|i| {
+                let q = i as f64 * 1e-6;
+                (1.0 - (-94.0 * q * q).exp()) / q
+            })
+            .fold(0.0, f64::max);
+        let peak = 2.0 / delta * 6.0 * d * ui / 188.0 * best;
+        let ratio = JetField::wall_jet_peak_ratio(d, standoff, delta);
+        let axis = 6.0 * d * ui / standoff;
+        assert!(
+            (ratio * axis / peak - 1.0).abs() < 1e-6,
+            "{} against {peak}",
+            ratio * axis
+        );
+        assert!(
+            (peak / (d * ui / delta) - 0.395).abs() < 5e-4,
+            "{}",
+            peak / (d * ui / delta)
+        );
+        // The scan's fastest air along the wall (0.1 mm apart) is the peak's, a hair below.
+        assert!(
+            radial <= peak * (1.0 + 1e-12) && radial > peak * (1.0 - 1e-3),
+            "{radial}"
+        );
     }
 }

@@ -1115,6 +1115,9 @@ impl Ctx<'_> {
             let p = pos(y, i);
             if let Some(field) = field {
                 g = g.min(REGION_SCALE * field.margin(&field.coords(&p), m.region));
+                if field.layer.is_some() {
+                    g = g.min(REGION_SCALE * field.layer_margin(&p, m.in_layer));
+                }
             }
             if m.sliding {
                 // A sliding shot's steps are not capped (`advance_adaptive`): its events are
@@ -1554,6 +1557,11 @@ impl Ctx<'_> {
                         out.work.region_crossings += 1;
                         changed = true;
                     }
+                }
+                if field.layer_margin(&p, m.in_layer) < 0.0 {
+                    m.in_layer = !m.in_layer;
+                    out.work.region_crossings += 1;
+                    changed = true;
                 }
                 // Turbulent eddies: a new one when the last has lived its lifetime; none
                 // outside the mixing layer and the developed jet.
@@ -3466,7 +3474,7 @@ fn advance_verlet(
         if let Some(field) = &phys.forces.field {
             for (i, m) in members.iter_mut().enumerate() {
                 if moving(m, t) {
-                    m.region = field.region_of(&field.coords(&pos(y, i)));
+                    m.locate(field, &pos(y, i));
                 }
             }
         }

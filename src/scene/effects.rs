@@ -221,8 +221,8 @@ impl Scene {
             };
             decisions.push(EffectDecision { name, on, reason });
         }
-        // The air's stagnation layer above the plate (beyond the paper): the drag and the
-        // lateral force see it.
+        // The air's stagnation layer above the plate and its wall jet (beyond the paper):
+        // the drag and the lateral force see them.
         if let Some(delta) = self.jet.stagnation_layer
             && let Some(force) = decisions[..2].iter_mut().find(|d| d.on)
         {
@@ -230,6 +230,9 @@ impl Scene {
                 "; the air slows in a stagnation layer {} mm above the plate",
                 super::validate::num(delta * 1e3)
             );
+            if self.jet.wall_jet {
+                force.reason += " and flows out along it (wall jet)";
+            }
         }
         // The shot-specimen law, when it is not one constant: say so where the run lists
         // its effects.

@@ -176,6 +176,9 @@ pub struct JetFile {
     /// Thickness of the stagnation layer above a flat specimen, mm (beyond the paper;
     /// left out: the free jet runs on into the part, as the paper's).
     pub stagnation_layer_mm: Option<f64>,
+    /// Whether the air the stagnation layer stops flows out along the plate (beyond the
+    /// paper; only with `stagnation_layer_mm` and a jet normal to the plate).
+    pub wall_jet: bool,
 }
 
 impl Default for JetFile {
@@ -189,6 +192,7 @@ impl Default for JetFile {
             divergence_tan: 0.1,
             turbulence_intensity: 0.0,
             stagnation_layer_mm: None,
+            wall_jet: false,
         }
     }
 }

@@ -146,6 +146,8 @@ pub struct JetSettings {
     /// Thickness of the stagnation layer above the flat specimen, m (`None`: the free
     /// jet runs on into the part; `flow::jet::JetField::layer`).
     pub stagnation_layer: Option<f64>,
+    /// Whether the layer's air flows out along the plate (`flow::jet::JetField::wall_jet`).
+    pub wall_jet: bool,
 }
 
 /// Shot diameters, m.

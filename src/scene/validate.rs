@@ -658,6 +658,7 @@ impl SceneFile {
                 ),
                 None => None,
             },
+            wall_jet: j.wall_jet,
         };
 
         // Shot sizes.
@@ -1563,6 +1564,43 @@ impl SceneFile {
                 "the stagnation layer is modelled above a flat specimen only: use [specimen] \
                  shape = \"plane\", or leave jet.stagnation_layer_mm out",
             ));
+        }
+        if let (true, None) = (jet.wall_jet, jet.stagnation_layer) {
+            return Err(c.invalid(
+                "jet.wall_jet",
+                "the wall jet is the air the stagnation layer turns aside: set \
+                 jet.stagnation_layer_mm too, or leave jet.wall_jet out",
+            ));
+        }
+        if let (true, Some(delta)) = (jet.wall_jet, jet.stagnation_layer) {
+            if n.angle_deg != 90.0 {
+                return Err(c.invalid(
+                    "jet.wall_jet",
+                    format!(
+                        "the wall jet is modelled under a jet normal to the plate only, and \
+                         nozzle.angle_deg = {}: use angle_deg = 90, or set wall_jet = false",
+                        num(n.angle_deg)
+                    ),
+                ));
+            }
+            let ratio =
+                crate::flow::JetField::wall_jet_peak_ratio(nozzle.bore, nozzle.standoff, delta);
+            if ratio > 1.0 {
+                return Err(c.invalid(
+                    "jet.stagnation_layer_mm",
+                    format!(
+                        "{} mm is too thin for the wall jet: its air would leave along the \
+                         plate at up to {} times the jet's speed at the plate, and a wall jet \
+                         cannot outrun the jet that feeds it: use stagnation_layer_mm >= {} \
+                         (with bore_mm = {} and standoff_mm = {}), or wall_jet = false",
+                        num(delta * 1e3),
+                        num((ratio * 1e3).round() / 1e3),
+                        num((ratio * delta * 1e5).ceil() / 1e2),
+                        num(bore_mm),
+                        num(n.standoff_mm)
+                    ),
+                ));
+            }
         }
         let specimen_material = c.material("specimen.material", &f.specimen.material, &user)?;
         let effects = EffectRequest::from_value(f.effects.as_ref(), path)?;
