@@ -3,7 +3,7 @@
 the free jet, with the stagnation layer alone, and with the layer and its wall jet
 (`[jet] stagnation_layer_mm`, `wall_jet`; docs/model.md, "The air and the part").
 
-usage: python3 bench/wall_jet.py [--bin PATH] [--seeds N] [--layer MM]
+usage: python3 bench/wall_jet.py [--bin PATH] [--seeds N] [--layer MM] [--figures DIR]
        (about 20 s for 48 seeds; needs the release binary, `cargo build --release`)
 
 The scene is `peenflow init`'s (the paper's: 30 shots of 0.8 mm steel through the 6 mm
@@ -13,11 +13,16 @@ flight, so single runs are chaotic: the script runs each variant over the same s
 compares the distributions (means with their standard errors, median and 90th
 percentile of the distance from the jet's axis), for the first impact of every shot and
 for the later ones (rebounds that came back down).
+
+With --figures DIR it only runs 300 glass beads (seed 1) in the free jet and with the
+layer and its wall jet, and copies the two runs' impact maps to
+DIR/impacts_glass_free_jet.png and DIR/impacts_glass_wall_jet.png (docs/figures).
 """
 import argparse
 import csv
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -44,12 +49,16 @@ def medium(text, name):
     return text + GLASS
 
 
-def run(binary, tmp, text, seed, jet_keys):
+def run(binary, tmp, text, seed, jet_keys, rows=True):
+    """Runs the scene with `seed` and the `jet_keys` lines added to [jet]: its impacts'
+    rows, or (`rows` false) its output directory."""
     text = text.replace("seed = 1 ", f"seed = {seed} ", 1).replace("[jet]\n", "[jet]\n" + jet_keys, 1)
     path = os.path.join(tmp, "scene.toml")
     open(path, "w").write(text)
     out = os.path.join(tmp, "out")
     subprocess.run([binary, "run", path, "--out", out, "-q", "--force"], check=True)
+    if not rows:
+        return out
     with open(os.path.join(out, "impacts.csv")) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
@@ -71,6 +80,7 @@ def main():
     p.add_argument("--bin", default=BIN)
     p.add_argument("--seeds", type=int, default=48)
     p.add_argument("--layer", type=float, default=14.0, help="the layer's thickness, mm")
+    p.add_argument("--figures", help="write the two glass-bead impact maps to this directory")
     a = p.parse_args()
     if not os.path.exists(a.bin):
         sys.exit(f"{a.bin} not found: build it with `cargo build --release`")
@@ -81,6 +91,18 @@ def main():
     ]
     with tempfile.TemporaryDirectory() as tmp:
         base = scene_text(a.bin, tmp)
+        if a.figures:
+            glass = medium(base, "glass").replace("count = 30", "count = 300", 1)
+            title = 'title = "paper Table 2: 30 shots, 0.8 mm, 0.6 MPa"'
+            assert title in glass, "the default scene's title moved"
+            for fig, what, keys in [("free_jet", "free jet", ""), ("wall_jet",
+                                    f"{a.layer:g} mm layer and wall jet", variants[2][1])]:
+                text = glass.replace(title, f'title = "300 glass beads of 0.2 mm, {what}"')
+                out = run(a.bin, tmp, text, 1, keys, rows=False)
+                dest = os.path.join(a.figures, f"impacts_glass_{fig}.png")
+                shutil.copy(os.path.join(out, "impacts.png"), dest)
+                print(f"wrote {dest}")
+            return
         for name in ("steel", "glass"):
             text = medium(base, name)
             label = "steel 0.8 mm" if name == "steel" else "glass 0.2 mm"
