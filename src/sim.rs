@@ -1220,8 +1220,7 @@ impl Simulation {
     pub fn from_parts(physics: Physics, mut shots: Vec<ShotState>, end: f64) -> Self {
         if let Some(field) = &physics.forces.field {
             for s in &mut shots {
-                let pos = s.pos;
-                s.locate(field, &pos);
+                s.locate(field);
             }
         }
         let mut by_start: Vec<usize> = (0..shots.len()).collect();
@@ -1405,8 +1404,7 @@ impl Simulation {
         if let Some((feed, next)) = &mut self.feed {
             while let Some(mut s) = next.take() {
                 if let Some(field) = &self.physics.forces.field {
-                    let pos = s.pos;
-                    s.locate(field, &pos);
+                    s.locate(field);
                 }
                 sink.shot(&s);
                 *next = feed
@@ -1449,8 +1447,7 @@ impl Simulation {
         if let Some((mut feed, mut next)) = self.feed.take() {
             while let Some(mut s) = next {
                 if let Some(field) = &self.physics.forces.field {
-                    let pos = s.pos;
-                    s.locate(field, &pos);
+                    s.locate(field);
                 }
                 self.by_start.push(s.id.0 as usize);
                 self.shots.push(s);
@@ -1603,8 +1600,7 @@ impl Simulation {
                 .next_shot()
                 .expect("BUG: the stream was checked when the run was set up");
             if let Some(field) = &self.physics.forces.field {
-                let pos = s.pos;
-                s.locate(field, &pos);
+                s.locate(field);
             }
             self.live.push(s.id.0 as usize);
             self.shots.push(s);

@@ -172,11 +172,19 @@ impl ShotState {
     }
 
     /// Sets the shot's jet region and its side of the stagnation layer's top for a
-    /// centre at `pos`.
+    /// centre at `pos` (an island's integrated position, not yet written back).
     #[inline]
-    pub fn locate(&mut self, field: &JetField, pos: &Vec3) {
+    pub fn locate_at(&mut self, field: &JetField, pos: &Vec3) {
         self.region = field.region_of(&field.coords(pos));
         self.in_layer = field.in_layer(pos);
+    }
+
+    /// Sets the shot's jet region and its side of the stagnation layer's top for its
+    /// own position.
+    #[inline]
+    pub fn locate(&mut self, field: &JetField) {
+        let pos = self.pos;
+        self.locate_at(field, &pos);
     }
 
     /// Whether the shot is still integrated.

@@ -473,7 +473,7 @@ struct PairGeom {
 
 /// [`PairGeom`] of members `i` and `j` (their bodies given) in state `y`; `None` when
 /// they do not overlap.
-#[inline]
+#[inline(always)]
 fn pair_geometry(
     pc: &PairContact,
     (i, mi): (usize, &ShotBody),
@@ -3474,7 +3474,7 @@ fn advance_verlet(
         if let Some(field) = &phys.forces.field {
             for (i, m) in members.iter_mut().enumerate() {
                 if moving(m, t) {
-                    m.locate(field, &pos(y, i));
+                    m.locate_at(field, &pos(y, i));
                 }
             }
         }
