@@ -294,18 +294,34 @@ impl JetField {
         if let Some(delta) = self.layer
             && pos.z < delta
         {
-            let x = pos.z / delta;
-            velocity.z *= stagnation_factor(x);
-            if self.wall_jet {
-                // The jet is normal to the plate: the offset from the axis lies in it.
-                let mean = self.enclosed_mean(&c, region, u);
-                velocity += c.offset * (stagnation_slope(x) / delta * mean);
-            }
+            self.turn_aside(&mut velocity, &c, region, u, pos.z / delta, delta);
         }
         FlowSample {
             velocity,
             density,
             coords: c,
+        }
+    }
+
+    /// The stagnation layer's turn of the free jet's `velocity` (axial speed `u`) at
+    /// `x = z / delta` within the layer: its normal part slowed, and with the wall jet the
+    /// air it stops sent outwards. Out of line, so that [`Self::sample`] stays small enough
+    /// to inline into the force models for the scenes without a layer.
+    #[inline(never)]
+    fn turn_aside(
+        &self,
+        velocity: &mut Vec3,
+        c: &JetCoords,
+        region: Region,
+        u: f64,
+        x: f64,
+        delta: f64,
+    ) {
+        velocity.z *= stagnation_factor(x);
+        if self.wall_jet {
+            // The jet is normal to the plate: the offset from the axis lies in it.
+            let mean = self.enclosed_mean(c, region, u);
+            *velocity += c.offset * (stagnation_slope(x) / delta * mean);
         }
     }
 
