@@ -50,6 +50,10 @@ pub struct WorkCounters {
     /// Event scheduler: contacts found already overlapping when their cluster started
     /// (should stay zero; reported so a user can see it).
     pub late_contacts: u64,
+    /// Event scheduler: of `late_contacts`, those overlapping deeper than 1e-9 of their
+    /// contact distance (a contact missed; the others are shots that had just parted,
+    /// meeting again at the rounding level).
+    pub late_contacts_deep: u64,
     /// Event scheduler: lone contacts (two shots, or a shot and the
     /// specimen) resolved in closed form and a two-body frame instead of as an island
     /// (`events/binary.rs`).
@@ -92,6 +96,7 @@ impl WorkCounters {
         self.clusters += other.clusters;
         self.cluster_redos += other.cluster_redos;
         self.late_contacts += other.late_contacts;
+        self.late_contacts_deep += other.late_contacts_deep;
         self.lean_contacts += other.lean_contacts;
         self.lean_continuations += other.lean_continuations;
         self.slides += other.slides;

@@ -744,3 +744,32 @@ fn a_give_up_on_the_fixed_step_method_suggests_no_step() {
         "{adaptive}"
     );
 }
+
+/// LIGGGHTS' stream.in (`bench/scenes/pack_stream_10k.toml`: 10,000 shots at 70 m/s, a
+/// 5 % volume fraction, rebounds meeting the incoming shots) at the default tolerance
+/// and at LIGGGHTS' accuracy (1e-4), on the event scheduler: no contact is found
+/// overlapping deeper than the rounding level (`late_contacts_deep`). Until session 59 a
+/// shot whose earliest pending touch was a stale one already past (predicted with a shot
+/// whose path had changed since) was taken as free for good, through the real touch
+/// that stale one hid: its new path met a shot resolved ahead of it 2 um deep, in both
+/// runs.
+#[test]
+fn a_stale_pending_touch_hides_no_real_one() {
+    let text = std::fs::read_to_string(common::root().join("bench/scenes/pack_stream_10k.toml"))
+        .expect("bench/scenes/pack_stream_10k.toml");
+    for tol in ["1e-6", "1e-4"] {
+        let scene = Scene::from_toml(
+            &format!("{text}\n[integrator]\ntolerance = {tol}\n"),
+            "pack_stream_10k",
+        )
+        .unwrap();
+        let out = simulate(&scene);
+        assert_eq!(out.scheduler, "events");
+        eprintln!(
+            "tolerance {tol}: {} contact onsets, {} late, {} of them deep",
+            out.work.contact_onsets, out.work.late_contacts, out.work.late_contacts_deep
+        );
+        assert!(out.work.contact_onsets > 40_000);
+        assert_eq!(out.work.late_contacts_deep, 0, "tolerance {tol}");
+    }
+}

@@ -142,7 +142,7 @@ impl Engine<'_> {
                 // shot of a cluster in progress only where its chunk ended; outside
                 // that, within the speed bound.
                 let (clock, owned) = (self.fly[k].t_ref, self.slot[k].owner != NONE);
-                let nc = self.next_change[k].without(who);
+                let nc = self.pending(k).without(who);
                 let until = if owned {
                     clock
                 } else if nc >= self.t_now {
