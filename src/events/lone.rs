@@ -142,15 +142,16 @@ impl Engine<'_> {
                 // shot of a cluster in progress only where its chunk ended; outside
                 // that, within the speed bound.
                 let (clock, owned) = (self.fly[k].t_ref, self.slot[k].owner != NONE);
-                let nc = self.pending(k).without(who);
-                let until = if owned {
-                    clock
-                } else if nc >= self.t_now {
-                    nc
-                } else {
-                    f64::INFINITY
+                let t_now = self.t_now;
+                let until_at = move |nc: f64| match (owned, nc >= t_now) {
+                    (true, _) => clock,
+                    (false, true) => nc,
+                    (false, false) => f64::INFINITY,
                 };
-                // Far from the box holding our path wherever it can be: clear.
+                // Far from the box holding our path wherever it can be: clear. (Its
+                // pending touch, found afresh below if the kept one is past, is not needed
+                // here: it is at least `t_now`, so the middle is the same.)
+                let until = until_at(self.next_change[k].without(who));
                 let t_mid = s.clamp(clock, until.max(clock));
                 let centre = self
                     .flight
@@ -164,6 +165,7 @@ impl Engine<'_> {
                 if gap > start.radius + self.fly[k].radius + roam {
                     continue;
                 }
+                let until = until_at(self.pending(k).without(who));
                 let nb = Neighbour {
                     clock,
                     pos: self.fly[k].pos,

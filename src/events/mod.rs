@@ -1246,7 +1246,13 @@ impl<'a> Engine<'a> {
                         continue;
                     }
                     let dmin = closest_approach(&dx, &dv, e - t_a);
-                    let nc = self.pending(c).t;
+                    // (Its pending touch, found afresh if the kept one is past, only
+                    // where it can matter: it is at least `t_now`.)
+                    let nc = if dmin < sigma * (1.0 + SLACK) + 2.0 * vb * (e - self.t_now) {
+                        self.pending(c).t
+                    } else {
+                        self.next_change[c].t
+                    };
                     if nc >= self.t_now
                         && nc < e
                         && dmin < sigma * (1.0 + SLACK) + 2.0 * vb * (e - nc)
