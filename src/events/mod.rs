@@ -311,12 +311,17 @@ fn group_roots(n: usize, edges: impl Iterator<Item = (usize, usize)>) -> Vec<usi
 /// Whether two sampled paths (`(t, position)`, times ascending, positions linear in
 /// between) come closer than `sigma` while both are known.
 fn paths_meet(a: &[(f64, Vec3)], b: &[(f64, Vec3)], sigma: f64) -> bool {
+    paths_meet_from(a, b, sigma, f64::NEG_INFINITY)
+}
+
+/// [`paths_meet`] from time `from` on.
+fn paths_meet_from(a: &[(f64, Vec3)], b: &[(f64, Vec3)], sigma: f64, from: f64) -> bool {
     let (Some(&(a0, _)), Some(&(a1, _)), Some(&(b0, _)), Some(&(b1, _))) =
         (a.first(), a.last(), b.first(), b.last())
     else {
         return false;
     };
-    let (t0, t1) = (a0.max(b0), a1.min(b1));
+    let (t0, t1) = (a0.max(b0).max(from), a1.min(b1));
     if t1 < t0 {
         return false;
     }
@@ -368,6 +373,9 @@ struct Chunk {
     violator: Option<usize>,
     /// Member pairs overlapping at the end without having been paired (global ids).
     missed: Vec<(u32, u32)>,
+    /// Where the chunk must end instead: a member flown on from its group's end changes
+    /// its path there, within reach of a group that ran on (`Engine::free_until`).
+    cut: Option<f64>,
     /// Fastest member speed seen at the start and at step ends, m/s.
     v_seen: f64,
     /// Members left on their free path (state, clock and pending events still valid).
@@ -1290,10 +1298,13 @@ impl<'a> Engine<'a> {
                     self.join(&mut cl, c, st);
                     continue;
                 }
-                if !chunk.missed.is_empty() {
+                if !chunk.missed.is_empty() || chunk.cut.is_some() {
                     redos += 1;
                     self.out.work.cluster_redos += 1;
                     extra.extend(chunk.missed);
+                    if let Some(t) = chunk.cut {
+                        e = t;
+                    }
                     continue;
                 }
             }
@@ -1647,6 +1658,8 @@ impl<'a> Engine<'a> {
         for (k, &m) in members.iter().enumerate() {
             self.local[m] = k as u32;
         }
+        let free_until = self.free_until(&copies, &t_end, &unchanged, &local, near, st);
+        let vb = self.v_bound().max(v_seen.sqrt());
         let mut violator = None;
         'verify: for &(c, m, _) in near {
             if self.mark[c] == st || self.mark[m] != st {
@@ -1673,6 +1686,8 @@ impl<'a> Engine<'a> {
         // freely) without having been paired, or whose actual paths met though their
         // free paths did not: redo with them.
         let mut missed = Vec::new();
+        let mut cut = f64::INFINITY;
+        let min_chunk = 0.25 * cl.tc;
         for &(i, j) in &watched {
             let (i, j) = (i as usize, j as usize);
             if unchanged[i] && unchanged[j] {
@@ -1693,8 +1708,30 @@ impl<'a> Engine<'a> {
                 v
             };
             let sigma = copies[i].body.radius + copies[j].body.radius;
-            if paths_meet(&full(i), &full(j), sigma) {
+            let (path_i, path_j) = (full(i), full(j));
+            if paths_meet(&path_i, &path_j, sigma) {
                 missed.push(key(i, j));
+                continue;
+            }
+            // A shot flown on from its group's end past its next change (`free_until`)
+            // may be anywhere its speed takes it from there: unless even that keeps the
+            // pair apart, the chunk ends at the change (the scheduler meets it, and the
+            // other group continues from there), or, too early for that, the pair is
+            // carried.
+            let changed = free_until[i].min(free_until[j]);
+            if changed < until
+                && paths_meet_from(
+                    &path_i,
+                    &path_j,
+                    sigma + 2.0 * vb * (until - changed),
+                    changed,
+                )
+            {
+                if changed >= s + min_chunk {
+                    cut = cut.min(changed);
+                } else {
+                    missed.push(key(i, j));
+                }
             }
         }
         if self.phys.contacts.pair.is_some() {
@@ -1720,9 +1757,83 @@ impl<'a> Engine<'a> {
             out,
             violator,
             missed,
+            cut: (cut < e).then_some(cut),
             v_seen: v_seen.sqrt(),
             unchanged,
         }
+    }
+
+    /// How long each member of a chunk flies free after its group's end
+    /// `t_end` (`INFINITY` for the members that do not change or end with the last
+    /// group): until its first touch with another member then flying free, with a shot
+    /// outside near it (`near`), or with the specimen. The scheduler meets those touches
+    /// only after the commit, while the pairs a member forms with the shots of groups that
+    /// run longer are checked on its free path (session 60: a shot re-touching its group's
+    /// shots as the group parted was checked on its free path against a longer group, and
+    /// met one of its shots 18 um deep).
+    fn free_until(
+        &self,
+        copies: &[ShotState],
+        t_end: &[f64],
+        unchanged: &[bool],
+        local: &[(u32, u32)],
+        near: &[(usize, usize, f64)],
+        st: u64,
+    ) -> Vec<f64> {
+        let n = copies.len();
+        let last = (0..n)
+            .filter(|&k| !unchanged[k])
+            .map(|k| t_end[k])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let early = |k: usize| !unchanged[k] && copies[k].is_active() && t_end[k] < last;
+        let mut until = vec![f64::INFINITY; n];
+        if !(0..n).any(early) {
+            return until;
+        }
+        let flight = &self.flight;
+        // First touch of two free states `(position, velocity, time)`, closing.
+        let touch = |a: (Vec3, Vec3, f64), b: (Vec3, Vec3, f64), sigma: f64| {
+            let t0 = a.2.max(b.2);
+            let (pa, va) = flight.at(&a.0, &a.1, t0 - a.2);
+            let (pb, vb) = flight.at(&b.0, &b.1, t0 - b.2);
+            pair_touch(&(pb - pa), &(vb - va), sigma).map_or(f64::INFINITY, |tau| t0 + tau)
+        };
+        let free = |k: usize| (copies[k].pos, copies[k].vel, t_end[k]);
+        for k in (0..n).filter(|&k| early(k)) {
+            let c = &copies[k];
+            if self.phys.contacts.specimen.is_some()
+                && let Some(tau) = flight.down_through(c.pos.z, c.vel.z, c.body.radius)
+            {
+                until[k] = t_end[k] + tau;
+            }
+        }
+        for &(i, j) in local {
+            let (i, j) = (i as usize, j as usize);
+            let free_i = early(i) || (unchanged[i] && copies[i].is_active());
+            let free_j = early(j) || (unchanged[j] && copies[j].is_active());
+            if (early(i) || early(j)) && free_i && free_j {
+                let sigma = copies[i].body.radius + copies[j].body.radius;
+                let t = touch(free(i), free(j), sigma);
+                until[i] = until[i].min(t);
+                until[j] = until[j].min(t);
+            }
+        }
+        for &(c, m, _) in near {
+            if self.mark[c] == st || self.mark[m] != st {
+                continue;
+            }
+            let k = self.local[m] as usize;
+            if self.slot[c].owner == NONE && early(k) {
+                let f = &self.fly[c];
+                let t = touch(
+                    free(k),
+                    (f.pos, f.vel, f.t_ref),
+                    f.radius + copies[k].body.radius,
+                );
+                until[k] = until[k].min(t);
+            }
+        }
+        until
     }
 
     /// The lean path (binary.rs) for group `grp` (cluster-local indices into `copies`,
