@@ -1658,7 +1658,8 @@ impl<'a> Engine<'a> {
         for (k, &m) in members.iter().enumerate() {
             self.local[m] = k as u32;
         }
-        let free_until = self.free_until(&copies, &t_end, &unchanged, &local, near, st);
+        let (free_until, deflected) =
+            self.free_until(&copies, &t_end, &unchanged, &local, near, st);
         let vb = self.v_bound().max(v_seen.sqrt());
         let mut violator = None;
         'verify: for &(c, m, _) in near {
@@ -1688,6 +1689,33 @@ impl<'a> Engine<'a> {
         let mut missed = Vec::new();
         let mut cut = f64::INFINITY;
         let min_chunk = 0.25 * cl.tc;
+        // A shot outside that a member flown on from its group's end touches before the
+        // groups that run on end leaves its free path there (`free_until`): against their
+        // paths, it may be anywhere its speed takes it from then on. Unless even that
+        // keeps them apart, the chunk ends at the touch, or, too early for that, the shot
+        // joins.
+        for &(c, t) in &deflected {
+            for &(c2, m, _) in near {
+                let k = self.local[m] as usize;
+                if c2 != c || self.mark[m] != st || unchanged[k] || t_end[k] <= t {
+                    continue;
+                }
+                let h = t_end[k] - t;
+                let free = [
+                    (t, self.state_at(c, t).0),
+                    (t_end[k], self.state_at(c, t_end[k]).0),
+                ];
+                let sigma = self.fly[c].radius + self.fly[m].radius;
+                let widen = 2.0 * vb * h + 0.125 * self.flight.g * h * h;
+                if paths_meet_from(&free, &paths[k], sigma + widen, t) {
+                    if t >= s + min_chunk {
+                        cut = cut.min(t);
+                    } else if violator.is_none() {
+                        violator = Some(c);
+                    }
+                }
+            }
+        }
         for &(i, j) in &watched {
             let (i, j) = (i as usize, j as usize);
             if unchanged[i] && unchanged[j] {
@@ -1770,7 +1798,8 @@ impl<'a> Engine<'a> {
     /// only after the commit, while the pairs a member forms with the shots of groups that
     /// run longer are checked on its free path (session 60: a shot re-touching its group's
     /// shots as the group parted was checked on its free path against a longer group, and
-    /// met one of its shots 18 um deep).
+    /// met one of its shots 18 um deep). Also the shots outside whose free paths such a
+    /// touch ends before the last group does, with its time (`deflected`).
     fn free_until(
         &self,
         copies: &[ShotState],
@@ -1779,7 +1808,7 @@ impl<'a> Engine<'a> {
         local: &[(u32, u32)],
         near: &[(usize, usize, f64)],
         st: u64,
-    ) -> Vec<f64> {
+    ) -> (Vec<f64>, Vec<(usize, f64)>) {
         let n = copies.len();
         let last = (0..n)
             .filter(|&k| !unchanged[k])
@@ -1787,8 +1816,9 @@ impl<'a> Engine<'a> {
             .fold(f64::NEG_INFINITY, f64::max);
         let early = |k: usize| !unchanged[k] && copies[k].is_active() && t_end[k] < last;
         let mut until = vec![f64::INFINITY; n];
+        let mut deflected = Vec::new();
         if !(0..n).any(early) {
-            return until;
+            return (until, deflected);
         }
         let flight = &self.flight;
         // First touch of two free states `(position, velocity, time)`, closing.
@@ -1831,9 +1861,12 @@ impl<'a> Engine<'a> {
                     f.radius + copies[k].body.radius,
                 );
                 until[k] = until[k].min(t);
+                if t < last {
+                    deflected.push((c, t));
+                }
             }
         }
-        until
+        (until, deflected)
     }
 
     /// The lean path (binary.rs) for group `grp` (cluster-local indices into `copies`,
