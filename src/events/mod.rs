@@ -172,6 +172,10 @@ enum Kind {
     Touch,
     Cross,
     Continue,
+    /// A cluster left holding one contact in progress, which may continue on the lean path
+    /// (lone.rs): after the others resuming at the same time, which may take in the free
+    /// shots it would rely on (session 60).
+    ContinueLone,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -867,7 +871,7 @@ impl<'a> Engine<'a> {
                         self.start_cluster(&[a, b], ev.t);
                     }
                 }
-                Kind::Continue => {
+                Kind::Continue | Kind::ContinueLone => {
                     if self.clusters[a].as_ref().is_some_and(|c| c.gen_ == ev.va) {
                         self.resolve(a);
                     }
@@ -2220,14 +2224,19 @@ impl<'a> Engine<'a> {
             for gs in order {
                 self.next_gen += 1;
                 let g = self.next_gen;
+                let mut kind = Kind::Continue;
                 if let Some(c) = self.clusters[gs].as_mut() {
                     c.gen_ = g;
+                    if c.members.len() + c.pairs.len() <= 3 && c.members.len() == c.pairs.len() + 1
+                    {
+                        kind = Kind::ContinueLone;
+                    }
                 }
                 self.queue.push(
                     e,
                     Ev {
                         t: e,
-                        kind: Kind::Continue,
+                        kind,
                         a: gs as u32,
                         b: 0,
                         va: g,
