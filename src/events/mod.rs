@@ -45,6 +45,16 @@
 //!   already past is stale (predicted with a shot whose path has changed since) and is
 //!   found afresh before it is relied on (`Engine::pending`: until session 59 such a
 //!   shot was taken as free for good, and a contact it hid was met 2 um deep);
+//! * a member whose group parts before the chunk ends flies free only until its next
+//!   touch (with a member then free, a shot outside near it, or the specimen:
+//!   `Engine::free_until`); past that, its pairs with the groups that run on, and a shot
+//!   outside it touches, are checked with the contact distance widened by what the speed
+//!   bound allows, and the chunk is cut at the touch (or the pair carried, the shot
+//!   joined) if they may meet (until session 60 they were checked on the free path, and a
+//!   contact was met 18 um deep);
+//! * continuations that may take the lean path (one contact left) come after the other
+//!   clusters resuming at the same time (`Kind::ContinueLone`), which may take in the
+//!   free shots the lean path would rely on;
 //! * a contact found overlapping when its cluster starts is counted in `late_contacts`
 //!   (reported in summary.json: about 1 in 4,000 contacts on the 10,000-shot pack, all of
 //!   them overlaps at the rounding level between shots that had just parted; deeper ones,
