@@ -797,86 +797,51 @@ fn a_stale_pending_touch_hides_no_real_one() {
 /// after the others at the same time.
 #[test]
 fn three_thrown_boxes_meet_no_contact_late() {
-    let fixed_step = Scene::from_toml(
-        r#"seed = 607
-duration_ms = 1.0
-gravity_m_s2 = 100
-[shots]
-diameter_mm = 0.821
-[shots.feed]
-type = "box"
-count = 2602
-min_mm = [0.0, 0.0, 0.487]
-max_mm = [26.487, 26.487, 17.708]
-velocity_m_s = [1.92, 14.23, -106.58]
-[restitution]
-shot_specimen = 1.000
-shot_shot = 1.000
-[friction]
-shot_specimen = 0.100
-shot_shot = 0.800
-[integrator]
-method = "verlet"
-scheduler = "events"
-fixed_step_ns = 8.419
-[effects]
-drag = false
-lateral_force = false
-nozzle_wall_contact = false
-"#,
-        "random_628_16",
-    )
-    .unwrap();
-    let adaptive = Scene::from_toml(
-        r#"seed = 468
-duration_ms = 1.0
-gravity_m_s2 = 100
-[shots]
-diameter_mm = 0.490
-[shots.feed]
-type = "box"
-count = 3000
-min_mm = [0.0, 0.0, 1.907]
-max_mm = [38.686, 38.686, 9.458]
-velocity_m_s = [9.32, 7.26, -119.84]
-[restitution]
-shot_specimen = 0.900
-shot_shot = 0.700
-[integrator]
-tolerance = 0.0001
-[effects]
-drag = false
-lateral_force = false
-nozzle_wall_contact = false
-"#,
-        "random_630_13",
-    )
-    .unwrap();
-    let resuming = Scene::from_toml(
-        r#"seed = 177
-duration_ms = 1.0
-gravity_m_s2 = 9.81
-[shots]
-diameter_mm = 0.351
-[shots.feed]
-type = "box"
-count = 3000
-min_mm = [0.0, 0.0, 1.494]
-max_mm = [14.577, 14.577, 16.217]
-velocity_m_s = [-17.67, 14.66, -91.89]
-[restitution]
-shot_specimen = 0.300
-shot_shot = 1.000
-[integrator]
-tolerance = 1e-05
-[effects]
-drag = false
-lateral_force = false
-nozzle_wall_contact = false
-"#,
-        "random_626_70",
-    )
-    .unwrap();
+    // As `bench/random_scenes.py --ballistic` writes them: seed, gravity (m/s^2),
+    // diameter (mm), count, the box's corners and the velocity, the restitutions with
+    // the specimen and between shots, and the tables that differ.
+    let thrown = |k: (u64, f64, f64, u32), [lo, hi, v]: [&str; 3], e: (&str, &str), rest| {
+        let (seed, g, d, count) = k;
+        let text = format!(
+            "seed = {seed}\nduration_ms = 1.0\ngravity_m_s2 = {g}\n[shots]\ndiameter_mm = {d}\n\
+             [shots.feed]\ntype = \"box\"\ncount = {count}\nmin_mm = {lo}\nmax_mm = {hi}\n\
+             velocity_m_s = {v}\n[restitution]\nshot_specimen = {}\nshot_shot = {}\n{rest}\
+             [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n",
+            e.0, e.1
+        );
+        Scene::from_toml(&text, "thrown_box").unwrap()
+    };
+    let fixed_step = thrown(
+        (607, 100.0, 0.821, 2602),
+        [
+            "[0.0, 0.0, 0.487]",
+            "[26.487, 26.487, 17.708]",
+            "[1.92, 14.23, -106.58]",
+        ],
+        ("1.000", "1.000"),
+        "[friction]\nshot_specimen = 0.100\nshot_shot = 0.800\n[integrator]\n\
+         method = \"verlet\"\nscheduler = \"events\"\nfixed_step_ns = 8.419\n",
+    );
+    let adaptive = thrown(
+        (468, 100.0, 0.490, 3000),
+        [
+            "[0.0, 0.0, 1.907]",
+            "[38.686, 38.686, 9.458]",
+            "[9.32, 7.26, -119.84]",
+        ],
+        ("0.900", "0.700"),
+        "[integrator]\ntolerance = 0.0001\n",
+    );
+    let resuming = thrown(
+        (177, 9.81, 0.351, 3000),
+        [
+            "[0.0, 0.0, 1.494]",
+            "[14.577, 14.577, 16.217]",
+            "[-17.67, 14.66, -91.89]",
+        ],
+        ("0.300", "1.000"),
+        "[integrator]\ntolerance = 1e-05\n",
+    );
     for (name, scene, onsets) in [
         ("628/16", fixed_step, 20_000),
         ("630/13", adaptive, 8_000),
