@@ -4,7 +4,7 @@
 //! from a tolerance-1e-10 run, itself within 1e-7 of the fixed-step RK4 reference of
 //! tests/physics_single_shot.rs).
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::accuracy::{Mode, Setting, ladder, ladder_for, reference_for, study};
 use peenflow::scene::Scene;

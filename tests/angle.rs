@@ -6,7 +6,7 @@
 //! speed (to 1e-7), contact point at x = -R/tan(angle), impact angle from the normal =
 //! 90 deg - peening angle. Rotating the tilt's azimuth rotates the impacts (to 1e-9).
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;

@@ -4,7 +4,7 @@
 //! records and work counts of the one-thread run byte for byte, whatever the thread
 //! count. Here every island of four shots or more is split (blocks of two or more).
 
-mod common;
+use crate::common;
 
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};

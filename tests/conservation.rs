@@ -14,7 +14,7 @@
 //! * with losses (restitution 0.7, or friction 0.3 on an elastic normal law) it never
 //!   grows (measured: 0.68 and 0.77 of the start).
 
-mod common;
+use crate::common;
 
 use common::{contact_physics, shot};
 use peenflow::Vec3;

@@ -3,7 +3,7 @@
 //! steady rate, the Avrami fit has `n = 1` and `k = N a / (A T)`, and 98 % coverage takes
 //! `T ln 50 / (N a / A)`. Plus the command end to end.
 
-mod common;
+use crate::common;
 use common::peenflow;
 use peenflow::coverage::{Dent, compute};
 use rand::{Rng, SeedableRng};

@@ -3,7 +3,7 @@
 //! and kept (just past a jet region's boundary, short of the specimen), instead of
 //! ending at every window's end up to the event. Only the steps change.
 
-mod common;
+use crate::common;
 
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};

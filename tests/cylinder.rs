@@ -15,7 +15,7 @@
 //! * a nozzle stream onto a bar gives the same results on 1 and 2 threads, and shots miss;
 //! * the event scheduler, which predicts contacts with the flat plate only, is refused.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::scene::Scene;

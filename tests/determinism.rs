@@ -1,7 +1,7 @@
 //! Same scene + seed => byte-identical impacts.csv and shots.csv (and the run's picture),
 //! for 1 and 2 threads.
 
-mod common;
+use crate::common;
 use common::*;
 use std::fs;
 

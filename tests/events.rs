@@ -2,7 +2,7 @@
 //! exact free flight, the same contact resolution, the same statistics on a falling pack,
 //! free flight without integrator steps, thread independence, and its scene errors.
 
-mod common;
+use crate::common;
 
 use common::{contact_physics, rel, shot};
 use peenflow::Vec3;

@@ -3,7 +3,7 @@
 //! or corrupt impacts.h5, a template with an undefined variable, an empty selection, a
 //! run without impacts, an unknown format) getting one clear line, a non-zero exit and no partial output.
 
-mod common;
+use crate::common;
 use common::*;
 use std::fs;
 use std::path::Path;

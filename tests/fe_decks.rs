@@ -14,7 +14,7 @@
 //! * Golden decks for a 3-impact fixture, byte for byte (PEENFLOW_BLESS=1 rewrites them).
 //! * SI and mm-t-s decks differ exactly by the unit factors.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::export::deck::{self, DeckFormat, DeckSettings, UnitSystem};
 use peenflow::export::select::Selection;
@@ -435,7 +435,7 @@ fn golden_decks_for_a_three_impact_fixture() {
                 .position(|(a, b)| a != b)
                 .unwrap_or(0);
             panic!(
-                "{name} differs from {} at line {}:\n got: {}\nwant: {}\n(review, then PEENFLOW_BLESS=1 cargo test --release --test fe_decks)",
+                "{name} differs from {} at line {}:\n got: {}\nwant: {}\n(review, then PEENFLOW_BLESS=1 cargo test --release --test suite fe_decks::)",
                 golden.display(),
                 line + 1,
                 got.lines().nth(line).unwrap_or(""),

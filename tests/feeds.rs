@@ -1,7 +1,6 @@
 //! Stream and size-distribution feeds: shots enter at their arrival times inside the bore,
 //! sizes follow the distribution, runs stay finite and every shot is accounted for.
 
-mod common;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;
 use peenflow::state::ShotStatus;

@@ -2,7 +2,7 @@
 //! hostile ones, must load or be refused with an error, never panic; scenes that load
 //! must also place their shots without panicking.
 //! CI runs PROPTEST_CASES (default 20000 strings, 5000 mutations here); run longer with
-//! `PROPTEST_CASES=1000000 cargo test --release --test fuzz_scene` (see docs/errors.md).
+//! `PROPTEST_CASES=1000000 cargo test --release --test suite fuzz_scene::` (see docs/errors.md).
 
 use peenflow::scene::{DEFAULT_SCENE, Scene};
 use proptest::prelude::*;

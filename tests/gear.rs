@@ -18,7 +18,7 @@
 //! gear's coverage takes runs on the gear (its teeth checked, a rack's run refused
 //! among them, the zones tiling the gear's own period).
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::scene::Scene;

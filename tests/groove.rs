@@ -15,7 +15,7 @@
 //!   threads, records its impacts on the surface and leaves no shot inside the part;
 //! * the event scheduler, which predicts contacts with the flat plate only, is refused.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::scene::Scene;

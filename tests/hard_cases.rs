@@ -5,7 +5,7 @@
 //! resting shots neither drift, sink nor gain energy; results converge as the tolerance
 //! tightens; mirror-symmetric inputs give mirror-symmetric outputs (to 1e-9).
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::contact::{

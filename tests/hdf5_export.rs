@@ -2,7 +2,7 @@
 //! library through h5py (tests/tools/check_h5.py compares every record with impacts.csv);
 //! written atomically, so a run killed at any moment leaves no unreadable impacts.h5.
 
-mod common;
+use crate::common;
 use common::*;
 use std::process::Command;
 

@@ -2,7 +2,7 @@
 //! fixed-step velocity Verlet inside contacts, from the located touch until a step ends
 //! with no contact in progress.
 
-mod common;
+use crate::common;
 
 use common::{run_scene as run, run_scene_on as run_on};
 use peenflow::integrate::island::Method;

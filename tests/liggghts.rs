@@ -42,7 +42,7 @@
 //! -12 % (kinetic energy, 0.87 between shots) and -4.1 % (0.67 on the wall; mean
 //! vertical velocity -2.9 %), measured on two seeds.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;

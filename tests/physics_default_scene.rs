@@ -3,7 +3,6 @@
 //! off, each of the 30 shots flies bit for bit as it would alone, with no neighbour search
 //! and no work for any effect that is off.
 
-mod common;
 use peenflow::scene::{Scene, Switch};
 use peenflow::sim::Simulation;
 use peenflow::state::ShotStatus;

@@ -7,7 +7,7 @@
 //! * shot-shot: momentum conserved to round-off (1e-12 relative), energy within 0.1 %
 //!   when undamped.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::contact::{HertzLaw, PairContact, effective_mass, hertz};

@@ -7,7 +7,7 @@
 //! inlet to first contact, at least 15 steps in the specimen contact), and the README's
 //! worked example quotes this run's counts.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;

@@ -8,7 +8,7 @@
 //! lean contact path against its island integrator. Case counts: PROPTEST_CASES (default
 //! 48 here; the random streams take a third of it, the dense streams a sixth).
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::Vec3;
 use peenflow::integrate::Physics;

@@ -8,7 +8,7 @@
 //! * a nozzle stream with a curve gives the same results on 1 and 2 threads, and its list
 //!   of effects names the curve.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 

@@ -2,7 +2,7 @@
 //! normal impact speed, and the histograms of normal speed and impact angle;
 //! `peenflow export` draws selection.png / selection.svg: the selected impacts over all.
 
-mod common;
+use crate::common;
 use common::*;
 use std::fs;
 

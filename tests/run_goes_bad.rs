@@ -3,7 +3,7 @@
 //! the cause and a fix, records the events in summary.json, writes only finite numbers,
 //! and exits with status 1 ("ran, but").
 
-mod common;
+use crate::common;
 use common::*;
 use std::fs;
 

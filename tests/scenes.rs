@@ -4,7 +4,7 @@
 //! a `#^` line) makes `peenflow run` exit with code 2 and one line naming the problem,
 //! without a panic and without creating the output directory.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 use std::fs;

@@ -7,7 +7,7 @@
 //! 10,000-shot stream both sit within 0.1 % of the converged reference:
 //! docs/performance-history.md, session 33.)
 
-mod common;
+use crate::common;
 
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};

@@ -4,7 +4,7 @@
 //! shot state agrees bit for bit with the run that looks at every shot in every window,
 //! and the work counters agree but for the count of shot-windows slept.
 
-mod common;
+use crate::common;
 
 use peenflow::Vec3;
 use peenflow::scene::Scene;

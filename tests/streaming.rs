@@ -3,7 +3,7 @@
 //! it holds the shots in flight, not every shot fed. The records must be exactly those of
 //! a run that creates every shot up front and sorts everything at the end.
 
-mod common;
+use crate::common;
 use peenflow::scene::Scene;
 use peenflow::sim::Simulation;
 

@@ -5,7 +5,7 @@
 //! collisions (chaotic) the distributions agree within their sampling noise, for fewer
 //! shot-steps.
 
-mod common;
+use crate::common;
 
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};

@@ -7,7 +7,7 @@
 //!   was when it arrived, and the coverage measured by testing random points of the
 //!   part against every dent near them (no cells, no formula).
 
-mod common;
+use crate::common;
 use common::peenflow;
 use peenflow::coverage::Dent;
 use peenflow::coverage::traverse::{Track, Traverse, coverage};

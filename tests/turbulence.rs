@@ -3,7 +3,7 @@
 //! impact point, with a spread that grows linearly with the intensity (drag responds
 //! linearly to small fluctuations), reproducibly whatever the thread count.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::Scene;
 use peenflow::sim::{RunOutput, Simulation};

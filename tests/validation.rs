@@ -9,7 +9,7 @@
 //! (smaller shots spread narrower; pressure moves the spread by less than the seed noise),
 //! so a physics change that moves either fails here.
 
-mod common;
+use crate::common;
 use common::*;
 use peenflow::scene::{Scene, Switch};
 use peenflow::validate::{pooled, power_law_exponent};

@@ -5,7 +5,7 @@
 //! velocity Verlet written here, on a scene the window scheduler cuts into many windows
 //! and islands.
 
-mod common;
+use crate::common;
 
 use common::{run_scene as run, run_scene_on as run_on};
 use peenflow::Vec3;
