@@ -946,15 +946,12 @@ impl<'a> Engine<'a> {
             }
         }
         self.buf = nb;
-        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
-        let (p, v, r) = (s.pos, s.vel, s.body.radius);
-        if self.phys.contacts.specimen.is_some()
-            && let Some(tau) = self.flight.down_through(p.z, v.z, r)
-            && t + tau <= self.end
-        {
-            self.push(t + tau, Kind::Floor, i, i);
-            self.next_change[i].note(t + tau, i);
+        if let Some(t) = self.floor_time(i) {
+            self.push(t, Kind::Floor, i, i);
+            self.next_change[i].note(t, i);
         }
+        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
+        let (p, v) = (s.pos, s.vel);
         let d = self.phys.domain;
         let leave = [
             self.flight.up_through(p.z, v.z, d.top),
@@ -1006,14 +1003,19 @@ impl<'a> Engine<'a> {
             }
         }
         self.buf2 = nb;
-        let (t, s) = (self.fly[c].t_ref, &self.shots[c]);
-        if self.phys.contacts.specimen.is_some()
-            && let Some(tau) = self.flight.down_through(s.pos.z, s.vel.z, s.body.radius)
-            && t + tau <= self.end
-        {
-            p.note(t + tau, c);
+        if let Some(t) = self.floor_time(c) {
+            p.note(t, c);
         }
         p
+    }
+
+    /// When free shot `i` reaches the specimen's plane on its free path, if it does
+    /// before the end.
+    fn floor_time(&self, i: usize) -> Option<f64> {
+        let (t, s) = (self.fly[i].t_ref, &self.shots[i]);
+        self.phys.contacts.specimen.as_ref()?;
+        let tau = self.flight.down_through(s.pos.z, s.vel.z, s.body.radius)?;
+        (t + tau <= self.end).then_some(t + tau)
     }
 
     /// Shot `c`'s [`Pending`]; if the kept one is past (`c` free), found afresh
