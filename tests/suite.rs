@@ -2,7 +2,7 @@
 //!
 //! `cargo test --release` builds test binaries with the release profile (fat LTO, one
 //! code unit), so every test binary pays a whole-program link of about 25 s on two
-//! cores. Forty files as forty binaries took 11 min of build in CI; as modules of this
+//! cores. The 38 files as 38 binaries took 11 min of build in CI; as modules of this
 //! one binary they link once. Each file below is one module, named as before
 //! (`cargo test --release --test suite events::` runs tests/events.rs alone); a new test
 //! file must be added here (`autotests = false` in Cargo.toml).
