@@ -549,7 +549,7 @@ fn redone_on_windows(text: &str, why: &str) {
 
 #[test]
 fn a_pile_the_event_scheduler_cannot_verify_is_run_on_windows() {
-    // 600 shots of 0.55 mm at 5 % volume fraction thrown at 110 m/s, obliquely, onto the
+    // 900 shots of 0.55 mm at 7 % volume fraction thrown at 110 m/s, obliquely, onto the
     // specimen with friction 2 between shots: after the first impacts they pile up, and a
     // cluster's chunk keeps being reached by shots from outside it, redo after redo.
     // Until session 23 the event scheduler then accepted the chunk unverified, leaving
@@ -561,8 +561,11 @@ fn a_pile_the_event_scheduler_cannot_verify_is_run_on_windows() {
     // to their kink, 250 alone of the seven seeds tried in 240-251; from then, 244, 252
     // and 253 of 240-262; since session 39's slow kinks left unlocated, 240 and 252;
     // since session 60's continuations on the lean path after the others, 253, 259 and
-    // 261.)
-    let text = "seed = 253\nduration_ms = 0.15\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = 0.549\n[shots.feed]\ntype = \"box\"\ncount = 600\nmin_mm = [0.0, 0.0, 0.3]\nmax_mm = [9.231, 9.231, 13.521]\nvelocity_m_s = [10.91, -18.36, -108.14]\n[restitution]\nshot_specimen = 0.605\nshot_shot = 0.7\n[friction]\nshot_specimen = 0.3\nshot_shot = 1.974\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
+    // 261. Since session 62's bound on a change through a neighbour, none of 240-275
+    // with 600 shots: they run on events to the end, in 3-5 s, with no contact met deep;
+    // with 900, 243, 246, 250 and 252 of 240-255, the others giving up on the islands'
+    // size.)
+    let text = "seed = 250\nduration_ms = 0.15\ngravity_m_s2 = 0.0\n[shots]\ndiameter_mm = 0.549\n[shots.feed]\ntype = \"box\"\ncount = 900\nmin_mm = [0.0, 0.0, 0.3]\nmax_mm = [9.231, 9.231, 13.521]\nvelocity_m_s = [10.91, -18.36, -108.14]\n[restitution]\nshot_specimen = 0.605\nshot_shot = 0.7\n[friction]\nshot_specimen = 0.3\nshot_shot = 1.974\n[effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
     redone_on_windows(text, "kept being reached by shots from outside it");
 }
 
@@ -857,6 +860,91 @@ fn three_thrown_boxes_meet_no_contact_late() {
             out.work.cluster_redos
         );
         assert!(out.work.contact_onsets > onsets);
+        assert_eq!(out.work.late_contacts_deep, 0, "{name}");
+    }
+}
+
+/// The gap `three_thrown_boxes_meet_no_contact_late` left open (session 60), met in
+/// `bench/random_scenes.py` boxes and closed in session 62: a free shot's path was relied
+/// on until its next pending touch, but a shot near it changed its own path first (at its
+/// touch, or as its cluster resumed) and then reached it. Seed 642 scene 12 (a lone
+/// contact relied on a neighbour that a cluster then took in: 1.5 um deep) and seed 630
+/// scene 11 (the same, 15 um) are the lone path's side; seed 644 scene 19 (a cluster
+/// relied on a shot that another cluster, resuming 0.55 ns later, then took in: 18.7 um
+/// deep, on the fixed-step method) is the gathering's.
+#[test]
+fn a_change_through_a_neighbour_meets_no_contact_late() {
+    // As `bench/random_scenes.py --ballistic` writes them: seed and duration (ms),
+    // gravity (m/s^2), diameter (mm), count, the box's corners and the velocity, and the
+    // tables.
+    let thrown = |(seed, ms): (u64, f64),
+                  g: f64,
+                  d: f64,
+                  count: u32,
+                  [lo, hi, v]: [&str; 3],
+                  rest: &str| {
+        let text = format!(
+            "seed = {seed}\nduration_ms = {ms}\ngravity_m_s2 = {g}\n[shots]\ndiameter_mm = {d}\n\
+             [shots.feed]\ntype = \"box\"\ncount = {count}\nmin_mm = {lo}\nmax_mm = {hi}\n\
+             velocity_m_s = {v}\n{rest}[effects]\ndrag = false\nlateral_force = false\n\
+             nozzle_wall_contact = false\n"
+        );
+        Scene::from_toml(&text, "thrown_box").unwrap()
+    };
+    let lone = thrown(
+        (504, 0.5),
+        0.0,
+        1.488,
+        104,
+        [
+            "[0.0, 0.0, 0.786]",
+            "[8.389, 8.389, 19.280]",
+            "[-15.05, 5.64, -12.13]",
+        ],
+        "[restitution]\nshot_specimen = 0.900\nshot_shot = 0.300\n[friction]\n\
+         shot_specimen = 1.410\nshot_shot = 0.300\n[integrator]\ntolerance = 0.001\n",
+    );
+    let lone_long = thrown(
+        (798, 1.0),
+        100.0,
+        0.595,
+        2046,
+        [
+            "[0.0, 0.0, 1.728]",
+            "[19.898, 19.898, 17.523]",
+            "[11.14, 18.45, -109.40]",
+        ],
+        "[restitution]\nshot_specimen = 0.300\nshot_shot = 0.936\n[integrator]\n\
+         tolerance = 0.0001\n",
+    );
+    let gathering = thrown(
+        (881, 0.5),
+        9.81,
+        1.055,
+        327,
+        [
+            "[0.0, 0.0, 0.588]",
+            "[14.947, 14.947, 8.498]",
+            "[16.05, -7.13, -76.05]",
+        ],
+        "[restitution]\nshot_specimen = 0.700\nshot_shot = 0.300\n[integrator]\n\
+         method = \"verlet\"\nscheduler = \"events\"\nfixed_step_ns = 57.637\n",
+    );
+    for (name, scene, onsets) in [
+        ("642/12", lone, 150),
+        ("630/11", lone_long, 10_000),
+        ("644/19", gathering, 1_000),
+    ] {
+        let out = simulate(&scene);
+        assert_eq!(out.scheduler, "events");
+        eprintln!(
+            "{name}: {} contact onsets, {} late, {} of them deep, {} clusters",
+            out.work.contact_onsets,
+            out.work.late_contacts,
+            out.work.late_contacts_deep,
+            out.work.clusters
+        );
+        assert!(out.work.contact_onsets > onsets, "{name}");
         assert_eq!(out.work.late_contacts_deep, 0, "{name}");
     }
 }

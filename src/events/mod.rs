@@ -45,6 +45,13 @@
 //!   already past is stale (predicted with a shot whose path has changed since) and is
 //!   found afresh before it is relied on (`Engine::pending`: until session 59 such a
 //!   shot was taken as free for good, and a contact it hid was met 2 um deep);
+//! * a free shot's pending touch says when its path changes only while the paths around
+//!   it stay as they are: a shot near it may change first (at its own touch, or as its
+//!   cluster resumes) and then reach it. The lone path and the gathering take a
+//!   relied-on free path as known only until the earliest such change could reach it
+//!   (`Engine::chain_bound`: the shot's line against the changing shot's sphere growing
+//!   at the speed bound; until session 62 contacts were met 1.5-18.7 um deep this way,
+//!   in about one random box in 65);
 //! * a member whose group parts before the chunk ends flies free only until its next
 //!   touch (with a member then free, a shot outside near it, or the specimen:
 //!   `Engine::free_until`); past that, its pairs with the groups that run on, and a shot
@@ -462,6 +469,8 @@ struct Engine<'a> {
     buf: Vec<usize>,
     /// Scratch for [`Engine::pending_now`] (called while `buf` is in use).
     buf2: Vec<usize>,
+    /// Scratch for the shots whose paths may change soon (`Engine::changers_in`).
+    changers: Vec<(usize, f64)>,
     /// Set when a cluster chunk stays unverified after `MAX_REDOS` redos (a member
     /// outran the speed bound, or a shot outside reached a member): the run stops, as
     /// accepting it would leave a contact to be found late, up to a whole overlap deep
@@ -752,6 +761,7 @@ impl<'a> Engine<'a> {
             cells: CellList::default(),
             buf: Vec::new(),
             buf2: Vec::new(),
+            changers: Vec::new(),
             gave_up: None,
             pile_watch: PileWatch::default(),
             shots,
@@ -1241,6 +1251,8 @@ impl<'a> Engine<'a> {
                 let reach = rm + self.r_max + 2.0 * vb * (e - s) + SLACK * 2.0 * self.r_max;
                 found.clear();
                 self.grid.for_each_within(&pm, reach, |c| found.push(c));
+                let mut changers = std::mem::take(&mut self.changers);
+                let mut changers_found = false;
                 for &c in &found {
                     if !self.slot[c].present || self.mark[c] == st {
                         continue;
@@ -1273,7 +1285,19 @@ impl<'a> Engine<'a> {
                     // (Its pending touch, found afresh if the kept one is past, only
                     // where it can matter: it is at least `t_now`.)
                     let nc = if dmin < sigma * (1.0 + SLACK) + 2.0 * vb * (e - self.t_now) {
-                        self.pending(c).t
+                        let nc = self.pending(c).t;
+                        if self.slot[c].owner == NONE {
+                            if !changers_found {
+                                self.changers_in(&found, &[], st, e, &mut changers);
+                                changers_found = true;
+                            }
+                            // (Only a change before the chunk's end by more than the
+                            // time to close the gap matters.)
+                            let t_lim = e - (dmin - sigma * (1.0 + SLACK)).max(0.0) / (2.0 * vb);
+                            self.chain_bound(c, &mut changers, &[], nc, vb, t_lim)
+                        } else {
+                            nc
+                        }
                     } else {
                         self.next_change[c].t
                     };
@@ -1292,6 +1316,7 @@ impl<'a> Engine<'a> {
                         near.push((c, m, dmin));
                     }
                 }
+                self.changers = changers;
             }
             // Integrate a copy of the members.
             e = e.min(self.speed_cap(&cl.members, s, min_chunk));
