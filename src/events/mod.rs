@@ -63,9 +63,9 @@
 //!   clusters resuming at the same time (`Kind::ContinueLone`), which may take in the
 //!   free shots the lean path would rely on;
 //! * a contact found overlapping when its cluster starts is counted in `late_contacts`
-//!   (reported in summary.json: about 1 in 4,000 contacts on the 10,000-shot pack, all of
-//!   them overlaps at the rounding level between shots that had just parted; deeper ones,
-//!   contacts missed, also in `late_contacts_deep`).
+//!   (reported in summary.json: about 1 in 3,000-5,000 contacts on the 10,000-shot
+//!   pack, all of them overlaps at the rounding level between shots that had just
+//!   parted; deeper ones, contacts missed, also in `late_contacts_deep`).
 //!
 //! A touch whose contact nobody else can come near while it lasts (one contact, with or
 //! without friction: two shots, or a shot and the specimen) is resolved at its event on the lean
