@@ -768,14 +768,7 @@ fn a_stale_pending_touch_hides_no_real_one() {
             "pack_stream_10k",
         )
         .unwrap();
-        let out = simulate(&scene);
-        assert_eq!(out.scheduler, "events");
-        eprintln!(
-            "tolerance {tol}: {} contact onsets, {} late, {} of them deep",
-            out.work.contact_onsets, out.work.late_contacts, out.work.late_contacts_deep
-        );
-        assert!(out.work.contact_onsets > 40_000);
-        assert_eq!(out.work.late_contacts_deep, 0, "tolerance {tol}");
+        meets_no_contact_deep(&format!("tolerance {tol}"), &scene, 40_000);
     }
 }
 
@@ -850,18 +843,25 @@ fn three_thrown_boxes_meet_no_contact_late() {
         ("630/13", adaptive, 8_000),
         ("626/70", resuming, 20_000),
     ] {
-        let out = simulate(&scene);
-        assert_eq!(out.scheduler, "events");
-        eprintln!(
-            "{name}: {} contact onsets, {} late, {} of them deep, {} cluster redos",
-            out.work.contact_onsets,
-            out.work.late_contacts,
-            out.work.late_contacts_deep,
-            out.work.cluster_redos
-        );
-        assert!(out.work.contact_onsets > onsets);
-        assert_eq!(out.work.late_contacts_deep, 0, "{name}");
+        meets_no_contact_deep(name, &scene, onsets);
     }
+}
+
+/// Runs `scene` on the event scheduler and asks for more than `onsets` contact onsets
+/// and no contact met deeper than the rounding level.
+fn meets_no_contact_deep(name: &str, scene: &Scene, onsets: u64) {
+    let out = simulate(scene);
+    assert_eq!(out.scheduler, "events");
+    eprintln!(
+        "{name}: {} contact onsets, {} late, {} of them deep, {} clusters, {} cluster redos",
+        out.work.contact_onsets,
+        out.work.late_contacts,
+        out.work.late_contacts_deep,
+        out.work.clusters,
+        out.work.cluster_redos
+    );
+    assert!(out.work.contact_onsets > onsets, "{name}");
+    assert_eq!(out.work.late_contacts_deep, 0, "{name}");
 }
 
 /// The gap `three_thrown_boxes_meet_no_contact_late` left open (session 60), met in
@@ -935,16 +935,6 @@ fn a_change_through_a_neighbour_meets_no_contact_late() {
         ("630/11", lone_long, 10_000),
         ("644/19", gathering, 1_000),
     ] {
-        let out = simulate(&scene);
-        assert_eq!(out.scheduler, "events");
-        eprintln!(
-            "{name}: {} contact onsets, {} late, {} of them deep, {} clusters",
-            out.work.contact_onsets,
-            out.work.late_contacts,
-            out.work.late_contacts_deep,
-            out.work.clusters
-        );
-        assert!(out.work.contact_onsets > onsets, "{name}");
-        assert_eq!(out.work.late_contacts_deep, 0, "{name}");
+        meets_no_contact_deep(name, &scene, onsets);
     }
 }
