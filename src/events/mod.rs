@@ -1044,6 +1044,110 @@ impl<'a> Engine<'a> {
         p
     }
 
+    /// Into `out`: the shots of `found` but `who` and the members of the cluster marked
+    /// `st` whose paths may change before `e`, each with the earliest time it may (a
+    /// cluster's clock, a pending touch with anybody but `who`; NaN: the kept pending touch
+    /// is past, to be found afresh if needed).
+    fn changers_in(
+        &self,
+        found: &[usize],
+        who: &[usize],
+        st: u64,
+        e: f64,
+        out: &mut Vec<(usize, f64)>,
+    ) {
+        out.clear();
+        for &j in found {
+            if !self.slot[j].present || self.mark[j] == st || who.contains(&j) {
+                continue;
+            }
+            let kept = self.next_change[j].without(who);
+            let tc = match (self.slot[j].owner != NONE, kept >= self.t_now) {
+                (true, _) => self.fly[j].t_ref,
+                (false, true) => kept,
+                (false, false) => f64::NAN,
+            };
+            if tc.is_nan() || tc < e {
+                out.push((j, tc));
+            }
+        }
+    }
+
+    /// How long free shot `k`'s free path (known until `until`) stays its path: until a
+    /// shot of `changers` (shot, when its path may change; NaN: to be found afresh)
+    /// could reach it after its change, anywhere within the speed bound `vb` of where it
+    /// changed (only changes before `e` matter). `k`'s pending touch is exact only while
+    /// the paths around it stay as they are (session 62).
+    fn chain_bound(
+        &mut self,
+        k: usize,
+        changers: &mut [(usize, f64)],
+        who: &[usize],
+        until: f64,
+        vb: f64,
+        e: f64,
+    ) -> f64 {
+        let (t_now, g) = (self.t_now, self.flight.g);
+        let tk = self.fly[k].t_ref.max(t_now);
+        let (pk, rk) = (self.state_at(k, tk).0, self.fly[k].radius);
+        let mut b = until;
+        for entry in changers.iter_mut() {
+            let (j, tc) = *entry;
+            if j == k {
+                continue;
+            }
+            // Too far to reach k before `b` (or `e`) whenever it changes: both move at
+            // most `vb` (compared where both are known: their clocks, or now).
+            let owned = self.slot[j].owner != NONE;
+            let tj0 = if owned {
+                self.fly[j].t_ref
+            } else {
+                self.fly[j].t_ref.max(t_now)
+            };
+            let horizon = b.min(e);
+            let reach = self.fly[j].radius + rk + vb * ((tj0 - tk).abs() + 2.0 * (horizon - t_now));
+            if (self.state_at(j, tj0).0 - pk).norm_squared() > reach * reach {
+                continue;
+            }
+            let tc = if tc.is_nan() {
+                let t = self.pending(j).without(who);
+                entry.1 = t;
+                t
+            } else {
+                tc
+            };
+            // Where and when its path may change (a shot of a cluster: at its clock).
+            let tj = if owned { tj0 } else { tc.max(tj0) };
+            if tj >= horizon {
+                continue;
+            }
+            let pj = self.state_at(j, tj).0;
+            // k's line from where both are known, against j's sphere growing at `vb`
+            // from where it changes (k's fall off its line, over what is left, added to
+            // the contact distance).
+            let t0 = tj.max(tk);
+            let (pk0, vk) = self.state_at(k, t0);
+            let h = horizon - t0;
+            let sig = self.fly[j].radius + rk + vb * (t0 - tj) + 0.5 * g * h * h;
+            let d = pk0 - pj;
+            let c = d.norm_squared() - sig * sig;
+            if c <= 0.0 {
+                b = b.min(t0);
+                continue;
+            }
+            let a = vk.norm_squared() - vb * vb;
+            let bb = d.dot(&vk) - sig * vb;
+            let disc = bb * bb - a * c;
+            if disc >= 0.0 {
+                let den = -bb + disc.sqrt();
+                if den > 0.0 {
+                    b = b.min(t0 + c / den);
+                }
+            }
+        }
+        b
+    }
+
     fn predict_pair(&mut self, i: usize, j: usize) {
         let touch = self.pair_touch_time(i, j);
         if let Some((t, depth)) = touch {
