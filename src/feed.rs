@@ -88,9 +88,9 @@ impl Grid {
 
     fn key(&self, p: &Vec3) -> (i64, i64, i64) {
         (
-            (p.x / self.cell).floor() as i64,
-            (p.y / self.cell).floor() as i64,
-            (p.z / self.cell).floor() as i64,
+            crate::floor_i64(p.x / self.cell),
+            crate::floor_i64(p.y / self.cell),
+            crate::floor_i64(p.z / self.cell),
         )
     }
 

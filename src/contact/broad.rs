@@ -48,9 +48,9 @@ impl Bins {
     #[inline]
     fn key(&self, p: &Vec3) -> Cell {
         (
-            (p.x / self.cell).floor() as i64,
-            (p.y / self.cell).floor() as i64,
-            (p.z / self.cell).floor() as i64,
+            crate::floor_i64(p.x / self.cell),
+            crate::floor_i64(p.y / self.cell),
+            crate::floor_i64(p.z / self.cell),
         )
     }
 

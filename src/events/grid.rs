@@ -63,8 +63,8 @@ impl Grid {
     /// The (clamped) cell of a point.
     pub fn cell_of(&self, p: &Vec3) -> Cell {
         [0, 1, 2].map(|k| {
-            let f = ((p[k] - self.lo[k]) / self.cell).floor();
-            if f <= 0.0 {
+            let f = crate::floor_i64((p[k] - self.lo[k]) / self.cell);
+            if f <= 0 {
                 0
             } else {
                 (f as usize).min(self.dims[k] - 1)
@@ -147,7 +147,7 @@ impl Grid {
 
     /// Calls `f` for every shot in cells that overlap the ball `(p, r)`'s bounding box.
     pub fn for_each_within(&self, p: &Vec3, r: f64, f: impl FnMut(usize)) {
-        let k = |v: f64, a: usize| ((v - self.lo[a]) / self.cell).floor() as i64;
+        let k = |v: f64, a: usize| crate::floor_i64((v - self.lo[a]) / self.cell);
         self.for_each_in(
             [0, 1, 2].map(|a| k(p[a] - r, a)),
             [0, 1, 2].map(|a| k(p[a] + r, a)),
