@@ -47,7 +47,10 @@ flanks, edges and depth, a rack of them half the time, moved off the jet half th
 session 54; the same): onto a spur gear of random teeth, module, pressure angle,
 addendum, dedendum, fillets, tip edges, axis and turn; the check for shots ending
 inside it is independent of peenflow's pieces (what the rack leaves of the blank as it
-rolls: `gear_side`) and skips the band of the rounded tip edges.
+rolls: `gear_side`) and skips the band of the rounded tip edges. With --layer (since
+session 57): a stagnation layer of random thickness in the scenes with air, above the
+plate or (since session 63, with --cylinder) round the bar, up to its radius; with
+--wall-jet (session 58) the plate's wall jet too.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -293,16 +296,19 @@ def nozzle_table(bore, length, standoff, angle, azimuth):
 
 def with_layer(r, text, wall_jet=False):
     """The scene with a stagnation layer above its plate (`jet.stagnation_layer_mm`, from
-    a twentieth of the stand-off to all of it), if it has air and a plate; with
-    `wall_jet`, its wall jet too (`jet.wall_jet`), the jet turned normal to the plate
-    (the wall jet's condition; the draw is the same, so the layer is the one --layer
-    draws). Layers too thin for their wall jet are refused with a message."""
+    a twentieth of the stand-off to all of it), if it has air and a plate, or round its
+    bar (up to the bar's radius, if that is less); with `wall_jet` (the plate only), its
+    wall jet too (`jet.wall_jet`), the jet turned normal to the plate (the wall jet's
+    condition; the draw is the same, so the layer is the one --layer draws). Layers too
+    thin for their wall jet are refused with a message."""
     m = re.search(r"standoff_mm = ([0-9.]+)", text)
-    if "[jet]\n" not in text or "shape = " in text or not m:
+    bar = re.search(r'shape = "cylinder"\nradius_mm = ([0-9.]+)', text)
+    if "[jet]\n" not in text or ("shape = " in text and not bar) or not m:
         return text
-    delta = r.uniform(0.05, 1.0) * float(m.group(1))
+    top = float(m.group(1)) if not bar else min(float(m.group(1)), float(bar.group(1)))
+    delta = r.uniform(0.05, 1.0) * top
     keys = f"stagnation_layer_mm = {delta:.3f}\n"
-    if wall_jet:
+    if wall_jet and not bar:
         keys += "wall_jet = true\n"
         text = re.sub(r"(?m)^angle_deg = [0-9.]+$", "angle_deg = 90.00", text)
     return text.replace("[jet]\n", "[jet]\n" + keys)
@@ -692,8 +698,9 @@ def main():
                     help="onto a spur gear (`shape = \"gear\"`, random teeth, module, "
                          "proportions, axis and turn) instead of the plate")
     ap.add_argument("--layer", action="store_true",
-                    help="a stagnation layer above the plate (`jet.stagnation_layer_mm`, "
-                         "random thickness up to the stand-off) in the scenes with air")
+                    help="a stagnation layer above the plate or round the bar "
+                         "(`jet.stagnation_layer_mm`, random thickness up to the stand-off, "
+                         "or the bar's radius) in the scenes with air")
     ap.add_argument("--wall-jet", action="store_true",
                     help="with --layer: the layer's wall jet too (`jet.wall_jet`), the jet "
                          "normal to the plate")

@@ -119,19 +119,51 @@ pub struct JetField {
     pub lip_density_cap: f64,
     /// Density laws.
     pub model: JetModel,
-    /// Thickness `delta` (m) of the stagnation layer above the flat specimen (beyond the
-    /// paper; `None`: the free jet runs on into the part, as in the paper). Within it the
-    /// air's velocity component normal to the plate is the free jet's times
-    /// [`stagnation_factor`]`(z / delta)`, so that it vanishes at the wall; its component
-    /// along the plate is the free jet's. Densities stay the free jet's.
+    /// Thickness `delta` (m) of the stagnation layer above the flat specimen, or round
+    /// the bar of [`JetField::layer_bar`] (beyond the paper; `None`: the free jet runs on
+    /// into the part, as in the paper). Within it the air's velocity component normal to
+    /// the surface is the free jet's times [`stagnation_factor`]`(h / delta)` (`h` the
+    /// height above the surface, `z` over the plate), so that it vanishes at the wall;
+    /// its components along the surface are the free jet's. Densities stay the free
+    /// jet's.
     pub layer: Option<f64>,
     /// Whether the air the layer stops flows out along the plate (the wall jet, beyond
-    /// the paper; only with a layer and a jet normal to the plate): a radial velocity
+    /// the paper; only with a layer over the plate and a jet normal to it): a radial velocity
     /// [`stagnation_slope`]`(z / delta) / delta` times `r` [`JetField::enclosed_mean`],
     /// which is what continuity asks of the layer's slowed normal flow (within the
     /// layer the air then conserves mass as well as the free jet does, times the
     /// layer's factor).
     pub wall_jet: bool,
+    /// The bar the layer lies on (beyond the paper; `None`: the flat plate `z = 0`).
+    /// Over a bar the layer's height is the distance from the bar's surface and its
+    /// normal the bar's, away from its axis.
+    pub layer_bar: Option<LayerBar>,
+}
+
+/// A bar (the cylindrical specimen) under the stagnation layer: its axis horizontal along
+/// `axis` through `(0, 0, -radius)`, so that its crest line is `z = 0` through the origin,
+/// as `SpecimenShape::Cylinder`'s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LayerBar {
+    /// Radius, m.
+    pub radius: f64,
+    /// Axis direction, a horizontal unit vector.
+    pub axis: Vec3,
+}
+
+impl LayerBar {
+    /// The offset of `pos` from the bar's axis, perpendicular to it.
+    #[inline]
+    fn offset(&self, pos: &Vec3) -> Vec3 {
+        let rel = Vec3::new(pos.x, pos.y, pos.z + self.radius);
+        rel - self.axis * self.axis.dot(&rel)
+    }
+
+    /// Height (m) of `pos` above the bar's surface.
+    #[inline]
+    pub fn height(&self, pos: &Vec3) -> f64 {
+        self.offset(pos).norm() - self.radius
+    }
 }
 
 /// The share of the free jet's normal air speed left at height `x` layer thicknesses
@@ -221,10 +253,21 @@ impl JetField {
         }
     }
 
+    /// Height (m) of `pos` above the surface the stagnation layer lies on: the plate's
+    /// `z`, or the distance from the bar's surface.
+    #[inline]
+    fn layer_height(&self, pos: &Vec3) -> f64 {
+        match &self.layer_bar {
+            None => pos.z,
+            Some(bar) => bar.height(pos),
+        }
+    }
+
     /// Whether a centre at `pos` is below the stagnation layer's top (false without one).
     #[inline]
     pub fn in_layer(&self, pos: &Vec3) -> bool {
-        self.layer.is_some_and(|delta| pos.z < delta)
+        self.layer
+            .is_some_and(|delta| self.layer_height(pos) < delta)
     }
 
     /// Signed margin (m) of a centre at `pos` against crossing the stagnation layer's top
@@ -235,8 +278,8 @@ impl JetField {
     #[inline]
     pub fn layer_margin(&self, pos: &Vec3, in_layer: bool) -> f64 {
         match self.layer {
-            Some(delta) if in_layer => delta - pos.z,
-            Some(delta) => pos.z - delta,
+            Some(delta) if in_layer => delta - self.layer_height(pos),
+            Some(delta) => self.layer_height(pos) - delta,
             None => f64::INFINITY,
         }
     }
@@ -292,9 +335,9 @@ impl JetField {
         let (u, density) = self.speed_density(&c, region);
         let mut velocity = self.axis * u;
         if let Some(delta) = self.layer
-            && pos.z < delta
+            && (pos.z < delta || self.layer_bar.is_some())
         {
-            self.turn_aside(&mut velocity, &c, region, u, pos.z / delta, delta);
+            self.turn_aside(&mut velocity, pos, &c, region, u, delta);
         }
         FlowSample {
             velocity,
@@ -304,19 +347,32 @@ impl JetField {
     }
 
     /// The stagnation layer's turn of the free jet's `velocity` (axial speed `u`) at
-    /// `x = z / delta` within the layer: its normal part slowed, and with the wall jet the
-    /// air it stops sent outwards. Out of line, so that [`Self::sample`] stays small enough
-    /// to inline into the force models for the scenes without a layer.
+    /// `pos`, below the plate layer's top or anywhere over a bar: within the layer (at
+    /// `x` = height / `delta`) its part normal to the surface slowed, and with the wall
+    /// jet (over the plate) the air it stops sent outwards. Out of line, so that
+    /// [`Self::sample`] stays small enough to inline into the force models for the scenes
+    /// without a layer.
     #[inline(never)]
     fn turn_aside(
         &self,
         velocity: &mut Vec3,
+        pos: &Vec3,
         c: &JetCoords,
         region: Region,
         u: f64,
-        x: f64,
         delta: f64,
     ) {
+        if let Some(bar) = &self.layer_bar {
+            let offset = bar.offset(pos);
+            let dist = offset.norm();
+            let x = (dist - bar.radius) / delta;
+            if x < 1.0 && dist > 0.0 {
+                let normal = offset / dist;
+                *velocity -= normal * (velocity.dot(&normal) * (1.0 - stagnation_factor(x)));
+            }
+            return;
+        }
+        let x = pos.z / delta;
         velocity.z *= stagnation_factor(x);
         if self.wall_jet {
             // The jet is normal to the plate: the offset from the axis lies in it.
@@ -470,6 +526,7 @@ impl JetField {
             model: JetModel::Consistent,
             layer: Some(delta),
             wall_jet: true,
+            layer_bar: None,
         };
         let radial = |r: f64| {
             let p = Vec3::new(r, 0.0, 0.0);
@@ -527,6 +584,7 @@ pub(crate) mod tests {
             model,
             layer: None,
             wall_jet: false,
+            layer_bar: None,
         }
     }
 
@@ -681,6 +739,75 @@ pub(crate) mod tests {
                 a.velocity
             );
         }
+    }
+
+    /// Over a bar (beyond the paper) the layer does what it does over the plate, with the
+    /// bar's normal: the air's component along the normal away from the bar's axis is the
+    /// free jet's times `x (2 - x)`, `x` = height above the bar / `delta`; the two
+    /// components along the surface and the density are the free jet's, and above the
+    /// layer everything is, to the bit. Points all round a bar of 5 mm (tilted axis, 30
+    /// degrees from x) under a tilted jet; on the crest line the normal is the plate's.
+    /// The layer's top is where its margin changes sign, and its side is `in_layer`'s.
+    #[test]
+    fn over_a_bar_the_layer_slows_only_the_air_normal_to_the_bar() {
+        let (radius, delta) = (0.005, 0.004);
+        let mut free = paper_field(JetModel::Paper);
+        free.axis = Vec3::new(1.0, 0.5, -2.0).normalize();
+        free.exit = -free.axis * 0.1;
+        let axis = Vec3::new(30f64.to_radians().cos(), 30f64.to_radians().sin(), 0.0);
+        let bar = LayerBar { radius, axis };
+        let layered = JetField {
+            layer: Some(delta),
+            layer_bar: Some(bar),
+            ..free.clone()
+        };
+        let centre = Vec3::new(0.0, 0.0, -radius);
+        let across = axis.cross(&Vec3::z());
+        let mut slowed = 0;
+        for along in [-0.004, 0.0, 0.0025] {
+            for deg in [0.0, 10.0, 45.0, 80.0, -60.0, 120.0, 180.0] {
+                let phi: f64 = f64::to_radians(deg);
+                let normal = Vec3::z() * phi.cos() + across * phi.sin();
+                for h in [0.0, 1e-4, 0.001, 0.002, 0.0039, 0.004, 0.0045, 0.01] {
+                    let p = centre + axis * along + normal * (radius + h);
+                    let region = free.region_of(&free.coords(&p));
+                    let (a, b) = (free.sample(&p, region), layered.sample(&p, region));
+                    assert_eq!(a.density, b.density);
+                    assert!((bar.height(&p) - h).abs() < 1e-15, "height at {p}");
+                    let x: f64 = (h / delta).min(1.0);
+                    let want_n = a.velocity.dot(&normal) * x * (2.0 - x);
+                    let tangent = axis.cross(&normal);
+                    let scale = 1e-12 * (a.velocity.norm() + 1.0);
+                    assert!((b.velocity.dot(&normal) - want_n).abs() <= scale);
+                    assert!((b.velocity.dot(&axis) - a.velocity.dot(&axis)).abs() <= scale);
+                    assert!((b.velocity.dot(&tangent) - a.velocity.dot(&tangent)).abs() <= scale);
+                    if h >= delta {
+                        assert_eq!(a.velocity, b.velocity);
+                    } else if a.velocity.dot(&normal).abs() > 1.0 {
+                        slowed += 1;
+                    }
+                    if h != delta {
+                        assert_eq!(layered.in_layer(&p), h < delta, "h = {h}");
+                        let m = layered.layer_margin(&p, h < delta);
+                        assert!(m > 0.0 && (m - (h - delta).abs()).abs() < 1e-15);
+                    }
+                    if deg == 0.0 && along == 0.0 {
+                        // The crest line: the plate's layer, to rounding.
+                        let plate = JetField {
+                            layer_bar: None,
+                            ..layered.clone()
+                        };
+                        let c = plate.sample(&p, region).velocity;
+                        assert!(
+                            (c - b.velocity).norm() <= scale,
+                            "{c} against {}",
+                            b.velocity
+                        );
+                    }
+                }
+            }
+        }
+        assert!(slowed > 30, "the test sees the jet slowed: {slowed}");
     }
 
     /// A jet normal to a plate at `standoff` (m), with a layer `delta` (m) and a wall jet.

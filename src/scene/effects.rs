@@ -221,14 +221,20 @@ impl Scene {
             };
             decisions.push(EffectDecision { name, on, reason });
         }
-        // The air's stagnation layer above the plate and its wall jet (beyond the paper):
+        // The air's stagnation layer above the plate or the bar and its wall jet (beyond the
+        // paper):
         // the drag and the lateral force see them.
         if let Some(delta) = self.jet.stagnation_layer
             && let Some(force) = decisions[..2].iter_mut().find(|d| d.on)
         {
             force.reason += &format!(
-                "; the air slows in a stagnation layer {} mm above the plate",
-                super::validate::num(delta * 1e3)
+                "; the air slows in a stagnation layer {} mm above the {}",
+                super::validate::num(delta * 1e3),
+                if self.specimen_shape.is_plane() {
+                    "plate"
+                } else {
+                    "bar"
+                }
             );
             if self.jet.wall_jet {
                 force.reason += " and flows out along it (wall jet)";

@@ -173,11 +173,11 @@ pub struct JetFile {
     /// Turbulence intensity of the mixing layer and developed jet, a fraction of the
     /// local mean air speed (beyond the paper; 0: off). Drives `turbulent_dispersion`.
     pub turbulence_intensity: f64,
-    /// Thickness of the stagnation layer above a flat specimen, mm (beyond the paper;
-    /// left out: the free jet runs on into the part, as the paper's).
+    /// Thickness of the stagnation layer above a flat specimen or round a bar, mm (beyond
+    /// the paper; left out: the free jet runs on into the part, as the paper's).
     pub stagnation_layer_mm: Option<f64>,
     /// Whether the air the stagnation layer stops flows out along the plate (beyond the
-    /// paper; only with `stagnation_layer_mm` and a jet normal to the plate).
+    /// paper; only with `stagnation_layer_mm`, the plate and a jet normal to it).
     pub wall_jet: bool,
 }
 

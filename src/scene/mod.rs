@@ -143,8 +143,8 @@ pub struct JetSettings {
     pub divergence_tan: f64,
     /// Turbulence intensity (fraction of the local mean speed; 0: none).
     pub turbulence_intensity: f64,
-    /// Thickness of the stagnation layer above the flat specimen, m (`None`: the free
-    /// jet runs on into the part; `flow::jet::JetField::layer`).
+    /// Thickness of the stagnation layer above the flat specimen or round the bar, m
+    /// (`None`: the free jet runs on into the part; `flow::jet::JetField::layer`).
     pub stagnation_layer: Option<f64>,
     /// Whether the layer's air flows out along the plate (`flow::jet::JetField::wall_jet`).
     pub wall_jet: bool,

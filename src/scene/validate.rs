@@ -6,6 +6,7 @@ use super::file::*;
 use super::material::{LIBRARY, Material, builtin};
 use super::*;
 use crate::contact::restitution::{MAX_POINTS, RestitutionCurve};
+use crate::contact::specimen::SpecimenShape;
 use crate::flow::{AirState, JetModel};
 use crate::state::Domain;
 
@@ -97,7 +98,7 @@ fn groove(
     c: &Checker,
     sf: &super::file::SpecimenFile,
     r_max: f64,
-) -> Result<crate::contact::specimen::SpecimenShape, SceneError> {
+) -> Result<SpecimenShape, SceneError> {
     use crate::contact::groove::{Groove, GrooveError, GrooveSize};
     let r_mm = r_max * 1e3;
     let need = |key: &str, v: Option<f64>| {
@@ -166,9 +167,7 @@ fn groove(
         gear: None,
     };
     match Groove::new(size) {
-        Ok(g) => Ok(crate::contact::specimen::SpecimenShape::Groove(
-            std::sync::Arc::new(g),
-        )),
+        Ok(g) => Ok(SpecimenShape::Groove(std::sync::Arc::new(g))),
         Err(GrooveError::TooShallow { needed }) => Err(c.invalid(
             "specimen.depth_mm",
             format!(
@@ -225,7 +224,7 @@ fn gear(
     c: &Checker,
     sf: &super::file::SpecimenFile,
     r_max: f64,
-) -> Result<crate::contact::specimen::SpecimenShape, SceneError> {
+) -> Result<SpecimenShape, SceneError> {
     use crate::contact::groove::{GearTeeth, Groove, GrooveError, GrooveSize};
     let r_mm = r_max * 1e3;
     let (Some(teeth), Some(module)) = (sf.teeth, sf.module_mm) else {
@@ -368,9 +367,7 @@ fn gear(
             ),
         ));
     }
-    Ok(crate::contact::specimen::SpecimenShape::Groove(
-        std::sync::Arc::new(g),
-    ))
+    Ok(SpecimenShape::Groove(std::sync::Arc::new(g)))
 }
 
 fn bound(x: f64) -> String {
@@ -902,7 +899,7 @@ impl SceneFile {
                         ));
                     }
                 }
-                crate::contact::specimen::SpecimenShape::Plane
+                SpecimenShape::Plane
             }
             "cylinder" => {
                 for (key, given) in groove_keys {
@@ -938,7 +935,7 @@ impl SceneFile {
                     B::Ex(180.0),
                     "degrees from +x",
                 )?;
-                crate::contact::specimen::SpecimenShape::cylinder(radius, axis.to_radians())
+                SpecimenShape::cylinder(radius, axis.to_radians())
             }
             "groove" => groove(&c, sf, 0.5 * sizes.max_diameter())?,
             "gear" => {
@@ -969,7 +966,7 @@ impl SceneFile {
             }
         };
         // The nozzle stays above a groove's lands, as above the plate.
-        if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape {
+        if let SpecimenShape::Groove(g) = &specimen_shape {
             let depth = g.size().depth;
             if nozzle.standoff * angle.sin() - rim <= depth {
                 let (what, key) = if g.gear().is_some() {
@@ -1182,7 +1179,7 @@ impl SceneFile {
                 }
                 // In a groove the box stays above the lands (it may be wider than the
                 // groove: shots placed in the teeth would start inside the part).
-                if let crate::contact::specimen::SpecimenShape::Groove(g) = &specimen_shape
+                if let SpecimenShape::Groove(g) = &specimen_shape
                     && lo[2] < g.size().depth + r_max
                 {
                     let (what, key) = if g.gear().is_some() {
@@ -1558,12 +1555,34 @@ impl SceneFile {
                  for a bed",
             ));
         }
-        if jet.stagnation_layer.is_some() && !specimen_shape.is_plane() {
-            return Err(c.invalid(
-                "jet.stagnation_layer_mm",
-                "the stagnation layer is modelled above a flat specimen only: use [specimen] \
-                 shape = \"plane\", or leave jet.stagnation_layer_mm out",
-            ));
+        match (jet.stagnation_layer, &specimen_shape) {
+            (None, _) | (Some(_), SpecimenShape::Plane) => {}
+            (Some(delta), SpecimenShape::Cylinder { radius, .. }) => {
+                if delta > *radius {
+                    return Err(c.invalid(
+                        "jet.stagnation_layer_mm",
+                        format!(
+                            "{} mm is thicker than the bar's radius ({} mm): the air goes \
+                             round a bar, and its speed normal to it recovers within about \
+                             the radius (potential flow past a cylinder: the layer's slope \
+                             at the wall for a layer one radius thick): use \
+                             stagnation_layer_mm <= {}, or leave it out",
+                            num(delta * 1e3),
+                            num(radius * 1e3),
+                            num(radius * 1e3)
+                        ),
+                    ));
+                }
+            }
+            (Some(_), SpecimenShape::Groove(_)) => {
+                return Err(c.invalid(
+                    "jet.stagnation_layer_mm",
+                    "the stagnation layer is modelled above a flat plate or a bar only (in a \
+                     groove or a gear's tooth space the air's turn is not a layer's): use \
+                     [specimen] shape = \"plane\" or \"cylinder\", or leave \
+                     jet.stagnation_layer_mm out",
+                ));
+            }
         }
         if let (true, None) = (jet.wall_jet, jet.stagnation_layer) {
             return Err(c.invalid(
@@ -1573,6 +1592,14 @@ impl SceneFile {
             ));
         }
         if let (true, Some(delta)) = (jet.wall_jet, jet.stagnation_layer) {
+            if !specimen_shape.is_plane() {
+                return Err(c.invalid(
+                    "jet.wall_jet",
+                    "the wall jet is modelled over a flat plate only (over a bar the layer \
+                     slows the air normal to it and does not send it round): use [specimen] \
+                     shape = \"plane\", or set wall_jet = false",
+                ));
+            }
             if n.angle_deg != 90.0 {
                 return Err(c.invalid(
                     "jet.wall_jet",
