@@ -17,11 +17,10 @@ use crate::Vec3;
 use crate::contact::broad::CellList;
 use crate::contact::friction::{self, Tangential};
 use crate::contact::restitution::SpeedLaw;
-use crate::contact::specimen::SpecimenShape;
 use crate::contact::{ContactSet, Friction, HertzLaw, PairContact, SpecimenContact, WallContact};
 use crate::counters::WorkCounters;
 use crate::export::vtk::SnapshotPoint;
-use crate::flow::{JetField, LayerBar};
+use crate::flow::JetField;
 use crate::forces::{DragModel, ForceSet, GravityModel, LateralForceModel, Turbulence};
 use crate::integrate::island::{self, IslandOutput, IslandPair, Method, Physics, Scratch};
 use crate::record::{Impact, RunEvent};
@@ -85,10 +84,7 @@ pub fn build_physics(scene: &Scene, effects: &Effects) -> Physics {
         model: scene.jet.model,
         layer: scene.jet.stagnation_layer,
         wall_jet: scene.jet.wall_jet,
-        layer_bar: match scene.specimen_shape {
-            SpecimenShape::Cylinder { radius, axis } => Some(LayerBar { radius, axis }),
-            _ => None,
-        },
+        layer_surface: scene.specimen_shape.clone(),
     });
     let forces = ForceSet {
         drag: effects.drag.then_some(drag_law),

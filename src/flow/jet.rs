@@ -8,6 +8,7 @@
 //! along the jet axis (negative inside the bore), `r` the distance from the axis.
 
 use crate::Vec3;
+use crate::contact::specimen::SpecimenShape;
 
 /// Tolerance (m) of the bore's inlet plane: a centre placed in the inlet plane belongs
 /// to the bore even when `standoff + length - standoff` rounds to a hair above `length`.
@@ -120,7 +121,7 @@ pub struct JetField {
     /// Density laws.
     pub model: JetModel,
     /// Thickness `delta` (m) of the stagnation layer above the flat specimen, or round
-    /// the bar of [`JetField::layer_bar`] (beyond the paper; `None`: the free jet runs on
+    /// the bar of [`JetField::layer_surface`] (beyond the paper; `None`: the free jet runs on
     /// into the part, as in the paper). Within it the air's velocity component normal to
     /// the surface is the free jet's times [`stagnation_factor`]`(h / delta)` (`h` the
     /// height above the surface, `z` over the plate), so that it vanishes at the wall;
@@ -134,36 +135,10 @@ pub struct JetField {
     /// layer the air then conserves mass as well as the free jet does, times the
     /// layer's factor).
     pub wall_jet: bool,
-    /// The bar the layer lies on (beyond the paper; `None`: the flat plate `z = 0`).
-    /// Over a bar the layer's height is the distance from the bar's surface and its
-    /// normal the bar's, away from its axis.
-    pub layer_bar: Option<LayerBar>,
-}
-
-/// A bar (the cylindrical specimen) under the stagnation layer: its axis horizontal along
-/// `axis` through `(0, 0, -radius)`, so that its crest line is `z = 0` through the origin,
-/// as `SpecimenShape::Cylinder`'s.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LayerBar {
-    /// Radius, m.
-    pub radius: f64,
-    /// Axis direction, a horizontal unit vector.
-    pub axis: Vec3,
-}
-
-impl LayerBar {
-    /// The offset of `pos` from the bar's axis, perpendicular to it.
-    #[inline]
-    fn offset(&self, pos: &Vec3) -> Vec3 {
-        let rel = Vec3::new(pos.x, pos.y, pos.z + self.radius);
-        rel - self.axis * self.axis.dot(&rel)
-    }
-
-    /// Height (m) of `pos` above the bar's surface.
-    #[inline]
-    pub fn height(&self, pos: &Vec3) -> f64 {
-        self.offset(pos).norm() - self.radius
-    }
+    /// The surface the layer lies on: the flat plate (the default), or a bar (beyond the
+    /// paper; the scene refuses a layer in a groove). Over a bar the layer's height is
+    /// the distance from the bar's surface and its normal the bar's, away from its axis.
+    pub layer_surface: SpecimenShape,
 }
 
 /// The share of the free jet's normal air speed left at height `x` layer thicknesses
@@ -257,10 +232,7 @@ impl JetField {
     /// `z`, or the distance from the bar's surface.
     #[inline]
     fn layer_height(&self, pos: &Vec3) -> f64 {
-        match &self.layer_bar {
-            None => pos.z,
-            Some(bar) => bar.height(pos),
-        }
+        self.layer_surface.distance(pos)
     }
 
     /// Whether a centre at `pos` is below the stagnation layer's top (false without one).
@@ -335,7 +307,7 @@ impl JetField {
         let (u, density) = self.speed_density(&c, region);
         let mut velocity = self.axis * u;
         if let Some(delta) = self.layer
-            && (pos.z < delta || self.layer_bar.is_some())
+            && (pos.z < delta || !self.layer_surface.is_plane())
         {
             self.turn_aside(&mut velocity, pos, &c, region, u, delta);
         }
@@ -362,12 +334,10 @@ impl JetField {
         u: f64,
         delta: f64,
     ) {
-        if let Some(bar) = &self.layer_bar {
-            let offset = bar.offset(pos);
-            let dist = offset.norm();
-            let x = (dist - bar.radius) / delta;
-            if x < 1.0 && dist > 0.0 {
-                let normal = offset / dist;
+        if !self.layer_surface.is_plane() {
+            let x = self.layer_height(pos) / delta;
+            if x < 1.0 {
+                let normal = self.layer_surface.normal(pos);
                 *velocity -= normal * (velocity.dot(&normal) * (1.0 - stagnation_factor(x)));
             }
             return;
@@ -526,7 +496,7 @@ impl JetField {
             model: JetModel::Consistent,
             layer: Some(delta),
             wall_jet: true,
-            layer_bar: None,
+            layer_surface: SpecimenShape::Plane,
         };
         let radial = |r: f64| {
             let p = Vec3::new(r, 0.0, 0.0);
@@ -584,7 +554,7 @@ pub(crate) mod tests {
             model,
             layer: None,
             wall_jet: false,
-            layer_bar: None,
+            layer_surface: SpecimenShape::Plane,
         }
     }
 
@@ -755,10 +725,10 @@ pub(crate) mod tests {
         free.axis = Vec3::new(1.0, 0.5, -2.0).normalize();
         free.exit = -free.axis * 0.1;
         let axis = Vec3::new(30f64.to_radians().cos(), 30f64.to_radians().sin(), 0.0);
-        let bar = LayerBar { radius, axis };
+        let bar = SpecimenShape::Cylinder { radius, axis };
         let layered = JetField {
             layer: Some(delta),
-            layer_bar: Some(bar),
+            layer_surface: bar.clone(),
             ..free.clone()
         };
         let centre = Vec3::new(0.0, 0.0, -radius);
@@ -773,7 +743,7 @@ pub(crate) mod tests {
                     let region = free.region_of(&free.coords(&p));
                     let (a, b) = (free.sample(&p, region), layered.sample(&p, region));
                     assert_eq!(a.density, b.density);
-                    assert!((bar.height(&p) - h).abs() < 1e-15, "height at {p}");
+                    assert!((bar.distance(&p) - h).abs() < 1e-15, "height at {p}");
                     let x: f64 = (h / delta).min(1.0);
                     let want_n = a.velocity.dot(&normal) * x * (2.0 - x);
                     let tangent = axis.cross(&normal);
@@ -794,7 +764,7 @@ pub(crate) mod tests {
                     if deg == 0.0 && along == 0.0 {
                         // The crest line: the plate's layer, to rounding.
                         let plate = JetField {
-                            layer_bar: None,
+                            layer_surface: SpecimenShape::Plane,
                             ..layered.clone()
                         };
                         let c = plate.sample(&p, region).velocity;

@@ -5,4 +5,4 @@ pub mod air;
 pub mod jet;
 
 pub use air::AirState;
-pub use jet::{FlowSample, JetCoords, JetField, JetModel, LayerBar, Region};
+pub use jet::{FlowSample, JetCoords, JetField, JetModel, Region};
