@@ -441,6 +441,26 @@ fn dropped_shots(starts: &[(f64, f64, f64)]) -> String {
     format!("{}{feed}{}", &text[..at], &text[end..])
 }
 
+/// Runs the scene `toml` (at `tolerance`, if given) after checking that the drag's line
+/// in the run's effects ends with `said` exactly when `saying`.
+fn run_saying(
+    mut toml: String,
+    tolerance: Option<f64>,
+    (said, saying): (&str, bool),
+) -> peenflow::sim::RunOutput {
+    if let Some(tol) = tolerance {
+        toml += &format!("\n[integrator]\ntolerance = {tol:e}\n");
+    }
+    let scene = Scene::from_toml(&toml, "layer.toml").unwrap();
+    let effects = scene.effects();
+    assert_eq!(
+        effects.decisions[0].reason.ends_with(said),
+        saying,
+        "{effects:?}"
+    );
+    Simulation::new(&scene, &effects).unwrap().run(&|_| {})
+}
+
 /// The wall jet (beyond the paper, `jet.wall_jet`) against an independent RK4 of the
 /// same equations, written here (`developed_air`, its radial flow integrated by Simpson):
 /// three shots dropped off the axis in the developed jet (3 and 10 mm at 60 m/s, 10 mm at
@@ -464,19 +484,8 @@ fn the_wall_jet_matches_independent_rk4_off_the_axis() {
     let base = dropped_shots(&starts);
     for (wall, tolerance) in [(true, None), (true, Some(1e-10)), (false, None)] {
         let keys = format!("[jet]\nstagnation_layer_mm = 14.0\nwall_jet = {wall}\n");
-        let mut toml = base.replace("[jet]\n", &keys);
-        if let Some(tol) = tolerance {
-            toml += &format!("\n[integrator]\ntolerance = {tol:e}\n");
-        }
-        let scene = Scene::from_toml(&toml, "wall_jet.toml").unwrap();
-        let effects = scene.effects();
         let said = "a stagnation layer 14 mm above the plate and flows out along it (wall jet)";
-        assert_eq!(
-            effects.decisions[0].reason.ends_with(said),
-            wall,
-            "{effects:?}"
-        );
-        let out = Simulation::new(&scene, &effects).unwrap().run(&|_| {});
+        let out = run_saying(base.replace("[jet]\n", &keys), tolerance, (said, wall));
         for (k, &(x0, z0, v0)) in starts.iter().enumerate() {
             let first = out.impacts.iter().find(|i| i.shot as usize == k).unwrap();
             let layer = (Some((delta, wall)), Under::Plate);
@@ -558,23 +567,13 @@ fn the_layer_over_a_bar_matches_independent_rk4() {
         (Some(delta), Some(1e-10)),
         (None, None),
     ] {
-        let mut toml = match layer {
+        let toml = match layer {
             Some(_) => base.replace("[jet]\n", "[jet]\nstagnation_layer_mm = 6.0\n"),
             None => base.clone(),
         };
         assert_ne!(toml, dropped_shots(&starts));
-        if let Some(tol) = tolerance {
-            toml += &format!("\n[integrator]\ntolerance = {tol:e}\n");
-        }
-        let scene = Scene::from_toml(&toml, "bar_layer.toml").unwrap();
-        let effects = scene.effects();
         let said = "a stagnation layer 6 mm above the bar";
-        assert_eq!(
-            effects.decisions[0].reason.ends_with(said),
-            layer.is_some(),
-            "{effects:?}"
-        );
-        let out = Simulation::new(&scene, &effects).unwrap().run(&|_| {});
+        let out = run_saying(toml, tolerance, (said, layer.is_some()));
         for (k, &(x0, z0, v0)) in starts.iter().enumerate() {
             let first = out.impacts.iter().find(|i| i.shot as usize == k).unwrap();
             let under = Under::Bar(radius);
