@@ -177,6 +177,23 @@ impl SpecimenShape {
         }
     }
 
+    /// [`SpecimenShape::distance`] and [`SpecimenShape::normal`] at `pos`, the same
+    /// numbers to the bit, from one radial offset on the bar.
+    #[inline]
+    pub fn distance_normal(&self, pos: &Vec3) -> (f64, Vec3) {
+        match self {
+            SpecimenShape::Plane => (pos.z, Vec3::z()),
+            SpecimenShape::Cylinder { radius, axis } => {
+                let (l, normal) = Self::radial_normal(&Self::radial(pos, *radius, axis));
+                (l - radius, normal)
+            }
+            SpecimenShape::Groove(g) => {
+                let foot = g.foot(pos);
+                (foot.distance, foot.normal)
+            }
+        }
+    }
+
     /// Outward unit normal of the surface point nearest `pos` (`+z` on the plane, and on
     /// the cylinder's axis itself).
     #[inline]
@@ -493,8 +510,9 @@ mod tests {
     #[test]
     fn one_foot_gives_what_a_contact_reads_to_the_bit() {
         // `touch`, `overlap_gap` and `gap_below` stand for `gap`, `normal`,
-        // `effective_radius` in the integrator's contacts and margins: the same numbers,
-        // whatever the shape.
+        // `effective_radius` in the integrator's contacts and margins (and
+        // `distance_normal` for `distance` and `normal` in the bar's layer): the same
+        // numbers, whatever the shape.
         let law = HertzLaw::new(2.1e11, 0.3, 2.1e11, 0.3, 0.7);
         let r = 0.4e-3;
         for shape in [
@@ -518,6 +536,9 @@ mod tests {
                 let t = sp.touch(&p, r);
                 assert_eq!(t.gap.to_bits(), gap.to_bits());
                 assert_eq!(t.normal, sp.normal(&p));
+                let (d, n) = shape.distance_normal(&p);
+                assert_eq!(d.to_bits(), shape.distance(&p).to_bits());
+                assert_eq!(n, shape.normal(&p));
                 assert_eq!(
                     t.effective_radius.to_bits(),
                     sp.effective_radius(&p, r).to_bits()

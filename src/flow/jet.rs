@@ -335,9 +335,9 @@ impl JetField {
         delta: f64,
     ) {
         if !self.layer_surface.is_plane() {
-            let x = self.layer_height(pos) / delta;
+            let (height, normal) = self.layer_surface.distance_normal(pos);
+            let x = height / delta;
             if x < 1.0 {
-                let normal = self.layer_surface.normal(pos);
                 *velocity -= normal * (velocity.dot(&normal) * (1.0 - stagnation_factor(x)));
             }
             return;
