@@ -5,6 +5,7 @@
 
 use crate::contact::specimen::SpecimenShape;
 use crate::counters::WorkCounters;
+use crate::record::loading::{JetLoading, LoadingTally};
 use crate::record::{Impact, RunEvent};
 use crate::scene::{EffectDecision, Scene};
 use crate::sim::{RunOutput, RunSink, RunTail};
@@ -229,6 +230,10 @@ pub struct Summary {
     pub normal_speed_histogram: Histogram,
     /// Impact radius of first hits in 5 mm bins (paper Figure 13).
     pub radius_histogram: Histogram,
+    /// How heavily the shots load the air jet, from the first hits (beyond the paper:
+    /// [`crate::record::loading`]); absent without the jet or without enough first hits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jet_loading: Option<JetLoading>,
     /// Effects and why.
     pub effects: Vec<EffectDecision>,
     /// Wall-clock time of the simulation, s.
@@ -277,8 +282,8 @@ pub struct ZoneStats {
 }
 
 /// Builds a summary from the records as a run hands them over (a [`RunSink`]): counts,
-/// and the few numbers per first hit that exact percentiles need (40 bytes per shot
-/// that hits), never the records themselves.
+/// and the few numbers per first hit that exact percentiles and the jet's loading need
+/// (56 bytes per shot that hits), never the records themselves.
 #[derive(Debug, Clone, Default)]
 pub struct SummaryBuilder {
     normal: Vec<f64>,
@@ -298,11 +303,15 @@ pub struct SummaryBuilder {
     first_contact: Vec<u64>,
     collisions: u64,
     wall_contacts: u64,
+    loading: LoadingTally,
+    /// Runs pooled into these records (0 or 1: one run).
+    runs: usize,
 }
 
 impl RunSink for SummaryBuilder {
     fn impacts(&mut self, batch: &[Impact]) {
         self.impacts += batch.len();
+        self.loading.impacts(batch);
         if let SpecimenShape::Groove(g) = &self.shape {
             for i in batch {
                 let z = g.zone(&crate::Vec3::new(i.x_m, i.y_m, i.z_m)) as usize;
@@ -326,6 +335,7 @@ impl RunSink for SummaryBuilder {
 
     fn shot(&mut self, s: &ShotState) {
         self.shots += 1;
+        self.loading.shot(s.body.mass);
         if s.hits > 0 {
             self.shots_hit += 1;
             self.first_contact.push(s.first_contact_steps);
@@ -363,6 +373,7 @@ impl SummaryBuilder {
     ) -> Summary {
         let n = self.shots;
         let first_hits = self.normal.len();
+        let jet_loading = self.loading.finish(scene, effects, n, self.runs.max(1));
         let radius_mm: Vec<f64> = self.radius.iter().map(|r| r * 1e3).collect();
         Summary {
             tool: "peenflow".into(),
@@ -418,6 +429,7 @@ impl SummaryBuilder {
                 30,
             ),
             radius_histogram: Histogram::new("impact radius, mm", &radius_mm, 5.0, 10),
+            jet_loading,
             effects: effects.to_vec(),
             wall_time_s: wall_time,
             threads,
@@ -463,7 +475,20 @@ impl Summary {
         wall_time: f64,
         threads: usize,
     ) -> Summary {
+        Self::pooled(scene, effects, out, wall_time, threads, 1)
+    }
+
+    /// The summary of `runs` runs of a scene (over seeds) whose records `out` pools.
+    pub fn pooled(
+        scene: &Scene,
+        effects: &[EffectDecision],
+        out: &RunOutput,
+        wall_time: f64,
+        threads: usize,
+        runs: usize,
+    ) -> Summary {
         let mut b = SummaryBuilder::on(scene.specimen_shape.clone());
+        b.runs = runs;
         b.impacts(&out.impacts);
         for s in &out.shots {
             b.shot(s);
@@ -523,6 +548,9 @@ impl Summary {
                 r.p90 * 1e3,
                 r.max * 1e3
             );
+        }
+        if let Some(l) = &self.jet_loading {
+            s.push_str(&l.text());
         }
         let across = if self.on_gear {
             "across the teeth, mm of arc from the tooth space's middle"

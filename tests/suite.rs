@@ -28,6 +28,7 @@ mod groove;
 mod hard_cases;
 mod hdf5_export;
 mod hybrid;
+mod jet_loading;
 mod liggghts;
 mod physics_default_scene;
 mod physics_hertz;

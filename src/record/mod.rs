@@ -6,6 +6,7 @@
 //! does not depend on the thread count.
 
 pub mod figure;
+pub mod loading;
 
 use crate::Vec3;
 use crate::contact::specimen::SpecimenShape;

@@ -474,7 +474,7 @@ fn write_case(
     scene.seed = runs[0].0;
     let effects = scene.effects();
     let wall: f64 = runs.iter().map(|r| r.2.wall_time_s).sum();
-    let pooled_summary = Summary::new(&scene, &effects.decisions, &pooled, wall, 1);
+    let pooled_summary = Summary::pooled(&scene, &effects.decisions, &pooled, wall, 1, runs.len());
     h5::write(
         &tmp.join("impacts.h5"),
         &h5::ImpactFileData {

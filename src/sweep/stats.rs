@@ -62,6 +62,12 @@ pub const STATS: &[StatDef] = &[
         description: "90th percentile of the distance of first hits from the jet axis",
         of: |s| s.radius_m.as_ref().map(|x| x.p90 * 1e3),
     },
+    StatDef {
+        name: "jet_momentum_share",
+        units: "1",
+        description: "share of the jet's momentum flow the shots take (one-way coupling holds while it is small; docs/model.md)",
+        of: |s| s.jet_loading.as_ref().map(|l| l.momentum_fraction),
+    },
 ];
 
 /// A statistic across a case's seeds.
