@@ -2,12 +2,13 @@
 //! prescribed field: the shots take momentum from the air and the air does not lose it
 //! (one-way coupling). That holds while what the shots take is a small part of the jet's
 //! momentum flow; at a production feed through a small bore it is not (S330 at 3 kg/min
-//! through the paper's 6 mm bore takes about a fifth of it). A run reports the share from
+//! through the paper's 6 mm bore takes 15 % of it). A run reports the share from
 //! its own first hits, and its summary warns above [`WARN_FRACTION`].
 //!
 //! The jet's momentum flow is the model's exit state's, `rho_c u_i^2 A` over the bore's
 //! area `A`; in a free jet it is conserved downstream, and a jet that lost a share `phi`
-//! of it to the shots would carry its (choked, fixed) mass flow about `phi` slower. What
+//! of it to the shots would carry its (choked, fixed) mass flow about `phi` slower, which
+//! would take about `0.6 phi` off the impact speeds (docs/model.md). What
 //! the shots take is their rate times the mean momentum one takes from the air on its way,
 //! along the jet's axis: its first hit's momentum less its entry momentum, over the first
 //! hits that met no other shot before (a collision trades momentum between shots, not
@@ -16,8 +17,8 @@
 //! radial).
 //!
 //! A stream takes its feed's rate times that mean. A batch's shots all start at once and
-//! fly together (the paper's 30 arrive within a fifth of a millisecond of each other,
-//! after about 2 ms): while they fly they take, per second, the mean over the counted
+//! fly together (the middle 80 % of the paper's 30 arrive within a fifth of a
+//! millisecond, after about 3.5 ms): while they fly they take, per second, the mean over the counted
 //! shots of one's momentum over its flight time, times the batch's size. Other feeds (a
 //! list, a box, a bed) are not reported.
 
@@ -29,6 +30,10 @@ use crate::scene::{EffectDecision, Feed, Scene};
 
 /// The share of the jet's momentum flow the shots take above which a summary warns.
 pub const WARN_FRACTION: f64 = 0.10;
+
+/// How much of the share comes off the impact speeds of a jet slowed by it at the same
+/// mass flow: 0.58-0.65 for 0.3-0.8 mm shots from rest (`bench/jet_loading.py`).
+const SPEED_PER_SHARE: f64 = 0.6;
 
 /// What a run's first hits say about the shots' load on the jet (summary.json
 /// `jet_loading`).
@@ -56,7 +61,8 @@ pub struct JetLoading {
     /// size times the mean of one's momentum over its flight time.
     pub momentum_taken_n: f64,
     /// `momentum_taken_n / jet_momentum_flow_n`: to first order, the share by which the
-    /// air, and so the impact speeds, would be slower were the coupling two-way.
+    /// air would be slower were the coupling two-way (the impact speeds by about 0.6
+    /// times it).
     pub momentum_fraction: f64,
 }
 
@@ -174,8 +180,9 @@ impl JetLoading {
                 _ => format!("the feed to below {cut:.0} % of its rate"),
             };
             s.push_str(&format!(
-                "warning: the shots take {:.1} % of the jet's momentum, but the model's air does not slow down for them (one-way coupling): the impact speeds are likely high, by the order of that share. Cut {what} for a share under {:.0} %, or check the speeds against a measured one (docs/model.md, \"How heavily the shots load the jet\")\n",
+                "warning: the shots take {:.1} % of the jet's momentum, but the model's air does not slow down for them (one-way coupling): the impact speeds are likely about {:.0} % high. Cut {what} for a share under {:.0} %, or check the speeds against a measured one (docs/model.md, \"How heavily the shots load the jet\")\n",
                 100.0 * self.momentum_fraction,
+                100.0 * SPEED_PER_SHARE * self.momentum_fraction,
                 100.0 * WARN_FRACTION
             ));
         }
@@ -325,5 +332,6 @@ mod tests {
             text.contains("Cut the batch to below 25 % of its size"),
             "{text}"
         );
+        assert!(text.contains("speeds are likely about 24 % high"), "{text}");
     }
 }

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""How heavily the shots load the jet, and what the share would cost the impact speeds
+(docs/model.md, "How heavily the shots load the jet").
+
+usage: python3 bench/jet_loading.py [--bin PATH] [--seeds N] [--feeds KG_MIN,...]
+                                   [--diameters MM,...]
+       (about 10 s with the defaults; needs the release binary, `cargo build --release`)
+
+1. The share of the jet's momentum flow the shots take (summary.json
+   `jet_loading.momentum_fraction`) for examples/s330_stream.toml at several feeds, over
+   seeds (mean and its standard error): it follows the feed.
+2. What a jet that lost a share `phi` of its momentum would do to a shot: the lone shot
+   of examples/single_shot.toml (0.8 mm, and the other `--diameters`, from rest on the
+   axis, drag only) in the
+   paper's jet with its air `1 - phi` as fast at the same mass flow (so `1 / (1 - phi)`
+   as dense): the exit speed scales as the square root of the supply temperature and the
+   densities as the ambient density, so the scene's `temperature_k` is multiplied by
+   `(1 - phi)^2` and `ambient_density_kg_m3` divided by `1 - phi`. It prints the impact
+   speed's drop over `phi`: 1 where a shot follows the air's speed, 1/2 where it stays
+   far below it (its speed then grows as the square root of the drag force, which at a
+   fixed mass flow goes as the air's speed).
+"""
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import subprocess
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "target", "release", "peenflow")
+
+
+def summary(binary, tmp, text):
+    path = os.path.join(tmp, "scene.toml")
+    open(path, "w").write(text)
+    out = os.path.join(tmp, "out")
+    subprocess.run([binary, "run", path, "--out", out, "-q", "--force"], check=True)
+    return json.load(open(os.path.join(out, "summary.json")))
+
+
+def example(binary, tmp, name):
+    path = os.path.join(tmp, name + ".toml")
+    subprocess.run([binary, "init", "--example", name, path], check=True, capture_output=True)
+    return open(path).read()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bin", default=BIN)
+    ap.add_argument("--seeds", type=int, default=4)
+    ap.add_argument("--feeds", default="0.5,1.5,3,6,10")
+    ap.add_argument("--diameters", default="0.8,0.3")
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        stream = example(a.bin, tmp, "s330_stream")
+        assert "mass_flow_kg_min = 3.0" in stream, "the example's feed moved"
+        assert not re.search(r"(?m)^seed", stream), "the example sets a seed"
+        print("S330 through the paper's 6 mm bore, 20 ms, %d seeds" % a.seeds)
+        print("| feed, kg/min | mass loading | share of the jet's momentum | per shot, kg m/s |")
+        print("|---|---|---|---|")
+        for q in [float(x) for x in a.feeds.split(",")]:
+            shares, gains, loading = [], [], None
+            for seed in range(1, a.seeds + 1):
+                text = f"seed = {seed}\n" + stream.replace(
+                    "mass_flow_kg_min = 3.0", f"mass_flow_kg_min = {q}")
+                jl = summary(a.bin, tmp, text)["jet_loading"]
+                shares.append(jl["momentum_fraction"])
+                gains.append(jl["momentum_per_shot_kg_m_s"])
+                loading = jl["mass_loading"]
+            se = statistics.stdev(shares) / math.sqrt(len(shares)) if len(shares) > 1 else 0.0
+            print(f"| {q:g} | {loading:.2f} | {100 * statistics.mean(shares):.1f} % "
+                  f"± {100 * se:.1f} | {statistics.mean(gains):.3g} |")
+
+        lone = example(a.bin, tmp, "single_shot")
+        assert "temperature_k = 293.0" in lone and "kappa = 1.4\n" in lone
+        assert "ambient_density_kg_m3" not in lone and "diameter_mm = 0.8\n" in lone
+        for d in [float(x) for x in a.diameters.split(",")]:
+            print()
+            print(f"A lone {d:g} mm SUJ-2 shot in the paper's jet slowed by phi at the same mass flow")
+            print("| phi | impact speed, m/s | drop | drop / phi |")
+            print("|---|---|---|---|")
+            base = None
+            for phi in [0.0, 0.02, 0.05, 0.10, 0.15, 0.25]:
+                f = 1.0 - phi
+                text = lone.replace("diameter_mm = 0.8\n", f"diameter_mm = {d!r}\n")
+                text = text.replace("temperature_k = 293.0", f"temperature_k = {293.0 * f * f!r}")
+                text = text.replace("kappa = 1.4\n",
+                                    f"kappa = 1.4\nambient_density_kg_m3 = {1.205 / f!r}\n")
+                v = summary(a.bin, tmp, text)["normal_speed_m_s"]["mean"]
+                if base is None:
+                    base = v
+                    print(f"| 0 | {v:.2f} | | |")
+                    continue
+                drop = 1.0 - v / base
+                print(f"| {phi:g} | {v:.2f} | {100 * drop:.1f} % | {drop / phi:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
