@@ -4,11 +4,14 @@
 
 usage: python3 bench/jet_loading.py [--bin PATH] [--seeds N] [--feeds KG_MIN,...]
                                    [--diameters MM,...]
-       (about 10 s with the defaults; needs the release binary, `cargo build --release`)
+       (about 20 s with the defaults; needs the release binary, `cargo build --release`)
 
 1. The share of the jet's momentum flow the shots take (summary.json
    `jet_loading.momentum_fraction`) for examples/s330_stream.toml at several feeds, over
-   seeds (mean and its standard error): it follows the feed.
+   seeds (mean and its standard error): it follows the feed. And the same runs with
+   `[jet] coupling = "momentum"`: the jet slowed by the share its shots take (`1 - f`,
+   summary.json `jet_loading.air_speed_factor` f), the share the coupled runs' own first
+   hits take, and the mean normal impact speed's drop over `1 - f`.
 2. What a jet that lost a share `phi` of its momentum would do to a shot: the lone shot
    of examples/single_shot.toml (0.8 mm, and the other `--diameters`, from rest on the
    axis, drag only) in the
@@ -58,21 +61,31 @@ def main():
         stream = example(a.bin, tmp, "s330_stream")
         assert "mass_flow_kg_min = 3.0" in stream, "the example's feed moved"
         assert not re.search(r"(?m)^seed", stream), "the example sets a seed"
-        print("S330 through the paper's 6 mm bore, 20 ms, %d seeds" % a.seeds)
-        print("| feed, kg/min | mass loading | share of the jet's momentum | per shot, kg m/s |")
-        print("|---|---|---|---|")
+        print("S330 through the paper's 6 mm bore, 20 ms, %d seeds; one-way coupling (the paper's)" % a.seeds)
+        print("and `coupling = \"momentum\"` (the jet slowed by a share 1 - f: the air's speed factor f)")
+        print("| feed, kg/min | mass loading | share of the jet's momentum | per shot, kg m/s "
+              "| normal speed, m/s | coupled: 1 - f | its run's share | normal speed, m/s | drop / (1 - f) |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        mean = statistics.mean
         for q in [float(x) for x in a.feeds.split(",")]:
-            shares, gains, loading = [], [], None
+            rows = {"one_way": [], "momentum": []}
             for seed in range(1, a.seeds + 1):
                 text = f"seed = {seed}\n" + stream.replace(
                     "mass_flow_kg_min = 3.0", f"mass_flow_kg_min = {q}")
-                jl = summary(a.bin, tmp, text)["jet_loading"]
-                shares.append(jl["momentum_fraction"])
-                gains.append(jl["momentum_per_shot_kg_m_s"])
-                loading = jl["mass_loading"]
+                for coupling in rows:
+                    sm = summary(a.bin, tmp, text + f'\n[jet]\ncoupling = "{coupling}"\n')
+                    jl = sm["jet_loading"]
+                    rows[coupling].append((jl["momentum_fraction"], jl["momentum_per_shot_kg_m_s"],
+                                           sm["normal_speed_m_s"]["mean"], jl["air_speed_factor"],
+                                           jl["mass_loading"]))
+            free, coupled = rows["one_way"], rows["momentum"]
+            shares = [r[0] for r in free]
             se = statistics.stdev(shares) / math.sqrt(len(shares)) if len(shares) > 1 else 0.0
-            print(f"| {q:g} | {loading:.2f} | {100 * statistics.mean(shares):.1f} % "
-                  f"± {100 * se:.1f} | {statistics.mean(gains):.3g} |")
+            slow = 1.0 - mean(r[3] for r in coupled)
+            v0, v1 = mean(r[2] for r in free), mean(r[2] for r in coupled)
+            print(f"| {q:g} | {free[0][4]:.2f} | {100 * mean(shares):.1f} % ± {100 * se:.1f} "
+                  f"| {mean(r[1] for r in free):.3g} | {v0:.2f} | {100 * slow:.1f} % "
+                  f"| {100 * mean(r[0] for r in coupled):.1f} % | {v1:.2f} | {(1 - v1 / v0) / slow:.2f} |")
 
         lone = example(a.bin, tmp, "single_shot")
         assert "temperature_k = 293.0" in lone and "kappa = 1.4\n" in lone

@@ -819,6 +819,9 @@ pub struct RunTail {
     /// but not entered yet and finished ones waiting for an older shot to finish (shots
     /// go to the sink in id order); every shot fed when the run is not streamed.
     pub peak_shots_held: usize,
+    /// The air's speed over the scene's (`[jet] coupling = "momentum"`: the jet the
+    /// shots slow; 1 otherwise).
+    pub air_speed_factor: f64,
 }
 
 /// A sink that keeps everything (what [`Simulation::run`] returns).
@@ -987,6 +990,8 @@ pub type Notice = Box<dyn Fn(&str) + Sync>;
 /// A run in progress.
 pub struct Simulation {
     physics: Physics,
+    /// [`RunTail::air_speed_factor`].
+    air_speed_factor: f64,
     shots: ShotStore,
     /// A stream's generator while shots are created as they enter (streamed windows
     /// runs), with its next shot; `None` when every shot is in `shots`.
@@ -1082,8 +1087,22 @@ fn starts_clear_of_the_tube(
 }
 
 impl Simulation {
-    /// A run of `scene` with its resolved `effects`.
+    /// A run of `scene` with its resolved `effects`: with `[jet] coupling = "momentum"`
+    /// in the jet the shots slow ([`crate::flow::coupling`]).
     pub fn new(scene: &Scene, effects: &Effects) -> Result<Self, SceneError> {
+        if scene.jet.coupling == crate::flow::coupling::Coupling::Momentum
+            && (effects.drag || effects.lateral_force)
+        {
+            let (coupled, f) = crate::flow::coupling::coupled(scene, effects)?;
+            let mut sim = Self::of_scene(&coupled, effects)?;
+            sim.air_speed_factor = f;
+            return Ok(sim);
+        }
+        Self::of_scene(scene, effects)
+    }
+
+    /// [`Simulation::new`] on the air as `scene` gives it.
+    fn of_scene(scene: &Scene, effects: &Effects) -> Result<Self, SceneError> {
         let physics = build_physics(scene, effects);
         let scheduler = scene.integrator.scheduler;
         if scheduler == Scheduler::Events
@@ -1250,6 +1269,7 @@ impl Simulation {
             near_buf: ById::default(),
             sleep: true,
             physics,
+            air_speed_factor: 1.0,
             shots: ShotStore::from_vec(shots),
             feed: None,
             peak_held: n,
@@ -1423,6 +1443,7 @@ impl Simulation {
             scheduler,
             scheduler_note,
             peak_shots_held: self.peak_held,
+            air_speed_factor: self.air_speed_factor,
         }
     }
 

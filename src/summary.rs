@@ -373,7 +373,9 @@ impl SummaryBuilder {
     ) -> Summary {
         let n = self.shots;
         let first_hits = self.normal.len();
-        let jet_loading = self.loading.finish(scene, effects, n, self.runs.max(1));
+        let jet_loading =
+            self.loading
+                .finish(scene, effects, n, self.runs.max(1), run.air_speed_factor);
         let radius_mm: Vec<f64> = self.radius.iter().map(|r| r * 1e3).collect();
         Summary {
             tool: "peenflow".into(),

@@ -201,6 +201,7 @@ fn long_tables_are_written_block_by_block_and_read_back_exactly() {
             scheduler: "windows",
             scheduler_note: None,
             peak_shots_held: n as usize,
+            air_speed_factor: 1.0,
         },
     };
     let summary = peenflow::summary::Summary::new(&scene, &[], &out, 0.0, 1);

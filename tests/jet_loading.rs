@@ -157,3 +157,44 @@ fn the_share_follows_the_feed_and_warns_only_above_ten_percent() {
     assert!(low_out.contains("jet loading (stream)"), "{low_out}");
     assert!(!low_out.contains("warning: the shots take"), "{low_out}");
 }
+
+#[test]
+fn the_coupled_jet_is_slower_by_what_the_shots_take() {
+    // `[jet] coupling = "momentum"` (beyond the paper): the run's jet carries what the
+    // shots leave it. The run's own first hits, read as in the one-way runs, say the
+    // shots take about the share the jet was slowed by (the lone shot the coupling flies
+    // stands for a sieve's spread of sizes: within 15 %), and the impact speeds drop by
+    // 0.4-0.8 times that share (a lone shot's 0.6: docs/model.md).
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    peenflow(&["init", "--example", "s330_stream", "s330.toml"], dir);
+    let text = fs::read_to_string(dir.join("s330.toml")).unwrap();
+    assert!(!text.contains("[jet]"), "{text}");
+    fs::write(
+        dir.join("coupled.toml"),
+        format!("{text}\n[jet]\ncoupling = \"momentum\"\n"),
+    )
+    .unwrap();
+    let (_, free) = run(dir, &["s330.toml"], "free");
+    let (stdout, coupled) = run(dir, &["coupled.toml"], "coupled");
+    let f = coupled["air_speed_factor"].as_f64().unwrap();
+    assert_eq!(coupled["coupling"], "momentum");
+    assert_eq!(free["air_speed_factor"], 1.0);
+    let share = coupled["momentum_fraction"].as_f64().unwrap();
+    assert!(rel(share, 1.0 - f) < 0.15, "{share} against {}", 1.0 - f);
+    assert!(share < free["momentum_fraction"].as_f64().unwrap());
+    let speed = |out: &str| {
+        let s: serde_json::Value =
+            serde_json::from_slice(&fs::read(dir.join(out).join("summary.json")).unwrap()).unwrap();
+        s["normal_speed_m_s"]["mean"].as_f64().unwrap()
+    };
+    let drop = 1.0 - speed("coupled") / speed("free");
+    let per_share = drop / (1.0 - f);
+    assert!((0.4..0.8).contains(&per_share), "{drop} for {}", 1.0 - f);
+    let line = format!(
+        "jet coupling (momentum): the run's air is {:.1} % slower",
+        100.0 * (1.0 - f)
+    );
+    assert!(stdout.contains(&line), "{stdout}");
+    assert!(!stdout.contains("warning: the shots take"), "{stdout}");
+}

@@ -2,6 +2,7 @@
 //! force sample. Sampled only when a force model needs the air (drag or lateral force on).
 
 pub mod air;
+pub mod coupling;
 pub mod jet;
 
 pub use air::AirState;

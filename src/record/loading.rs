@@ -64,6 +64,11 @@ pub struct JetLoading {
     /// air would be slower were the coupling two-way (the impact speeds by about 0.6
     /// times it).
     pub momentum_fraction: f64,
+    /// `one_way` (the paper's air) or `momentum` (the run's jet slowed by what the shots
+    /// take: `crate::flow::coupling`).
+    pub coupling: &'static str,
+    /// The run's air speed over the scene's jet's (1 with one-way coupling).
+    pub air_speed_factor: f64,
 }
 
 /// What the loading is read from, gathered as the records arrive (40 bytes per first
@@ -94,14 +99,17 @@ impl LoadingTally {
     }
 
     /// The loading of `runs` runs of `scene` (pooled over seeds: `runs` of them) that fed
-    /// `shots` shots, with `effects`; `None` without the jet (no drag, no lateral force),
-    /// without a clean first hit, or for a feed neither a stream nor a batch.
+    /// `shots` shots, with `effects`, in a jet `air_speed_factor` times as fast as the
+    /// scene's (`crate::sim::RunTail::air_speed_factor`); `None` without the jet (no
+    /// drag, no lateral force), without a clean first hit, or for a feed neither a stream
+    /// nor a batch.
     pub fn finish(
         self,
         scene: &Scene,
         effects: &[EffectDecision],
         shots: usize,
         runs: usize,
+        air_speed_factor: f64,
     ) -> Option<JetLoading> {
         let air_on = effects
             .iter()
@@ -156,6 +164,8 @@ impl LoadingTally {
             shots_counted: self.clean.len(),
             momentum_taken_n: taken,
             momentum_fraction: taken / jet_momentum_flow,
+            coupling: scene.jet.coupling.name(),
+            air_speed_factor,
         })
     }
 }
@@ -173,14 +183,20 @@ impl JetLoading {
             self.jet_momentum_flow_n,
             100.0 * self.momentum_fraction
         );
-        if self.momentum_fraction > WARN_FRACTION {
+        if self.coupling != "one_way" {
+            s.push_str(&format!(
+                "jet coupling ({}): the run's air is {:.1} % slower than the free jet's, carrying what the shots leave it\n",
+                self.coupling,
+                100.0 * (1.0 - self.air_speed_factor)
+            ));
+        } else if self.momentum_fraction > WARN_FRACTION {
             let cut = 100.0 * WARN_FRACTION / self.momentum_fraction;
             let what = match self.basis {
                 "batch" => format!("the batch to below {cut:.0} % of its size"),
                 _ => format!("the feed to below {cut:.0} % of its rate"),
             };
             s.push_str(&format!(
-                "warning: the shots take {:.1} % of the jet's momentum, but the model's air does not slow down for them (one-way coupling): the impact speeds are likely about {:.0} % high. Cut {what} for a share under {:.0} %, or check the speeds against a measured one (docs/model.md, \"How heavily the shots load the jet\")\n",
+                "warning: the shots take {:.1} % of the jet's momentum, but the model's air does not slow down for them (one-way coupling): the impact speeds are likely about {:.0} % high. Cut {what} for a share under {:.0} %, set [jet] coupling = \"momentum\" for the jet the shots slow, or check the speeds against a measured one (docs/model.md, \"How heavily the shots load the jet\")\n",
                 100.0 * self.momentum_fraction,
                 100.0 * SPEED_PER_SHARE * self.momentum_fraction,
                 100.0 * WARN_FRACTION
@@ -247,7 +263,7 @@ mod tests {
             hit(4e-3, Vec3::new(0.0, 0.0, -30.0), m, 0, false),
         ];
         let l = tally(&hits, &[m; 4])
-            .finish(&scene, &effects, 4, 1)
+            .finish(&scene, &effects, 4, 1, 1.0)
             .unwrap();
         let (air, flow) = jet(&scene);
         let gain = (m * (55.0 - entry) + 2.0 * m * (45.0 - entry)) / 2.0;
@@ -274,7 +290,7 @@ mod tests {
         ];
         // Pooled over two seeds: four shots fed, two per run.
         let l = tally(&hits, &[m; 4])
-            .finish(&scene, &effects, 4, 2)
+            .finish(&scene, &effects, 4, 2, 1.0)
             .unwrap();
         let per_second = (m * 50.0 / 2e-3 + m * 60.0 / 4e-3) / 2.0;
         assert_eq!(l.basis, "batch");
@@ -290,21 +306,33 @@ mod tests {
         let m = 2e-6;
         let clean = [hit(2e-3, Vec3::new(0.0, 0.0, -50.0), m, 0, true)];
         let hit_after_a_collision = [hit(2e-3, Vec3::new(0.0, 0.0, -50.0), m, 2, true)];
-        assert!(tally(&clean, &[m]).finish(&scene, &effects, 1, 1).is_some());
+        assert!(
+            tally(&clean, &[m])
+                .finish(&scene, &effects, 1, 1, 1.0)
+                .is_some()
+        );
         assert!(
             tally(&hit_after_a_collision, &[m])
-                .finish(&scene, &effects, 1, 1)
+                .finish(&scene, &effects, 1, 1, 1.0)
                 .is_none()
         );
         let mut list = scene.clone();
         list.feed = Feed::List(Vec::new());
-        assert!(tally(&clean, &[m]).finish(&list, &effects, 1, 1).is_none());
+        assert!(
+            tally(&clean, &[m])
+                .finish(&list, &effects, 1, 1, 1.0)
+                .is_none()
+        );
         for e in effects.iter_mut() {
             if e.name == "drag" || e.name == "lateral_force" {
                 e.on = false;
             }
         }
-        assert!(tally(&clean, &[m]).finish(&scene, &effects, 1, 1).is_none());
+        assert!(
+            tally(&clean, &[m])
+                .finish(&scene, &effects, 1, 1, 1.0)
+                .is_none()
+        );
     }
 
     #[test]
@@ -313,7 +341,7 @@ mod tests {
         let effects = scene.effects().decisions;
         let m = 2e-6;
         let l = tally(&[hit(2e-3, Vec3::new(0.0, 0.0, -50.0), m, 0, true)], &[m])
-            .finish(&scene, &effects, 1, 1)
+            .finish(&scene, &effects, 1, 1, 1.0)
             .unwrap();
         for (share, warns) in [(0.099, false), (0.101, true), (0.4, true)] {
             let text = JetLoading {

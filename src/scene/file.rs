@@ -143,6 +143,17 @@ pub enum JetModelFile {
     Consistent,
 }
 
+/// Whether the shots slow the air down.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum CouplingFile {
+    /// The paper's: the air is a prescribed field (default).
+    #[default]
+    OneWay,
+    /// Beyond the paper: the jet slowed by the momentum the shots take from it.
+    Momentum,
+}
+
 /// Density of the bore and potential core.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
@@ -179,6 +190,9 @@ pub struct JetFile {
     /// Whether the air the stagnation layer stops flows out along the plate (beyond the
     /// paper; only with `stagnation_layer_mm`, the plate and a jet normal to it).
     pub wall_jet: bool,
+    /// `"one_way"` (the paper's, default) or `"momentum"` (beyond the paper: the jet
+    /// slowed by what a stream's or a batch's shots take from it).
+    pub coupling: CouplingFile,
 }
 
 impl Default for JetFile {
@@ -193,6 +207,7 @@ impl Default for JetFile {
             turbulence_intensity: 0.0,
             stagnation_layer_mm: None,
             wall_jet: false,
+            coupling: CouplingFile::OneWay,
         }
     }
 }

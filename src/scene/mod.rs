@@ -148,6 +148,8 @@ pub struct JetSettings {
     pub stagnation_layer: Option<f64>,
     /// Whether the layer's air flows out along the plate (`flow::jet::JetField::wall_jet`).
     pub wall_jet: bool,
+    /// Whether the shots slow the jet (`flow::coupling`).
+    pub coupling: crate::flow::coupling::Coupling,
 }
 
 /// Shot diameters, m.

@@ -7,6 +7,7 @@ use super::material::{LIBRARY, Material, builtin};
 use super::*;
 use crate::contact::restitution::{MAX_POINTS, RestitutionCurve};
 use crate::contact::specimen::SpecimenShape;
+use crate::flow::coupling::Coupling;
 use crate::flow::{AirState, JetModel};
 use crate::state::Domain;
 
@@ -656,6 +657,10 @@ impl SceneFile {
                 None => None,
             },
             wall_jet: j.wall_jet,
+            coupling: match j.coupling {
+                CouplingFile::OneWay => Coupling::OneWay,
+                CouplingFile::Momentum => Coupling::Momentum,
+            },
         };
 
         // Shot sizes.
@@ -1583,6 +1588,16 @@ impl SceneFile {
                      jet.stagnation_layer_mm out",
                 ));
             }
+        }
+        if jet.coupling == Coupling::Momentum
+            && !matches!(feed, Feed::Stream { .. } | Feed::Batch { .. })
+        {
+            return Err(c.invalid(
+                "jet.coupling",
+                "\"momentum\" slows the jet by what a stream's or a batch's shots take from \
+                 it, and this feed is neither: use shots.feed.type = \"stream\" or \"batch\", \
+                 or coupling = \"one_way\"",
+            ));
         }
         if let (true, None) = (jet.wall_jet, jet.stagnation_layer) {
             return Err(c.invalid(

@@ -450,6 +450,7 @@ fn write_case(
             scheduler: runs.first().map_or("windows", |r| r.1.scheduler),
             scheduler_note: None,
             peak_shots_held: 0,
+            air_speed_factor: runs.first().map_or(1.0, |r| r.1.air_speed_factor),
         },
     };
     let mut impact_seeds = Vec::new();

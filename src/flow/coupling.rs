@@ -1,0 +1,228 @@
+//! The jet slowed by the shots (beyond the paper, `[jet] coupling = "momentum"`). The
+//! paper's air is a prescribed field that the shots take momentum from without slowing it
+//! (one-way coupling, the default); at a production feed the shots take a tenth of the
+//! jet's momentum or more (`crate::record::loading` measures the share in every run).
+//!
+//! With `coupling = "momentum"` the run uses the jet that carries what the shots leave
+//! it: the nozzle's thrust `J = rho_c u_i^2 A` is set by the supply, the shots take `P`
+//! of it per second, and the air, its (choked) mass flow `rho_c u_i A` unchanged, leaves
+//! the bore `f = 1 - P / J` as fast and `1 / f` as dense. Every region of the field keeps
+//! its shape; its speeds scale by `f` and its densities but the ambient air's by `1 / f`.
+//! `P` depends on `f` (a slower jet gives less), so `f` is the fixed point of
+//! `f = 1 - P(f) / J`, found by iteration. `P(f)` is read from one shot of the feed's
+//! mean mass flown alone from where the feed puts its shots on average (mean depth, mean
+//! offset from the axis), in the jet scaled by `f`, to its first hit: a stream takes its rate times that shot's momentum gain along
+//! the axis, a batch its size times that gain over the flight time (the batch's shots
+//! fly together). A mean-field, first-order correction: the jet's profile is the
+//! paper's, and the shots' drag does not reshape it.
+
+use crate::scene::{Effects, Feed, ListShot, Scene, SceneError};
+use crate::sim::Simulation;
+
+/// Whether the shots slow the jet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Coupling {
+    /// The paper's prescribed field (default).
+    #[default]
+    OneWay,
+    /// The jet slowed by the momentum the shots take (see the module's documentation).
+    Momentum,
+}
+
+impl Coupling {
+    /// The scene file's name for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Coupling::OneWay => "one_way",
+            Coupling::Momentum => "momentum",
+        }
+    }
+}
+
+/// The slowest jet the correction is taken to hold for: half the free jet's speed.
+pub const SLOWEST: f64 = 0.5;
+
+/// `scene` with its air `f` times as fast at the same mass flow (the jet's speeds by `f`,
+/// its supply, exit and capped densities by `1 / f`; the ambient air's unchanged).
+pub fn scaled(scene: &Scene, f: f64) -> Scene {
+    let mut s = scene.clone();
+    s.air.exit_velocity *= f;
+    s.air.rho_exit /= f;
+    s.air.rho_stagnation /= f;
+    s.jet.lip_density_cap /= f;
+    s.jet.coupling = Coupling::OneWay;
+    s
+}
+
+/// The momentum (N, along the jet's axis) the feed's shots take per second from the jet
+/// of `scene` (its air as it stands), read from one shot of the mean mass flown alone
+/// from the feed's mean place to its first hit; `None` for feeds other than a stream and
+/// a batch.
+pub fn taken(scene: &Scene, effects: &Effects) -> Result<Option<f64>, SceneError> {
+    let axis = scene.nozzle.axis();
+    let volume = scene.sizes.mean_volume();
+    let mass = scene.shot_material.density * volume;
+    let diameter = (6.0 * volume / std::f64::consts::PI).cbrt();
+    // Where the feed puts its shots on average: the mean depth, and the mean offset from
+    // the axis of centres spread evenly over the disc or ring they are drawn on (off the
+    // axis the free jet is slower: an on-axis shot took 13 % more than a stream's own).
+    let mean_offset = |a: f64, b: f64| {
+        if b > a {
+            2.0 / 3.0 * (b.powi(3) - a.powi(3)) / (b * b - a * a)
+        } else {
+            a
+        }
+    };
+    let (depth, offset, entry_speed) = match &scene.feed {
+        Feed::Stream { entry_speed, .. } => (
+            0.0,
+            mean_offset(0.0, 0.5 * (scene.nozzle.bore - diameter)),
+            *entry_speed,
+        ),
+        Feed::Batch {
+            axial_spread,
+            radial_min,
+            radial_max,
+            ..
+        } => (
+            0.5 * axial_spread,
+            mean_offset(*radial_min, *radial_max),
+            0.0,
+        ),
+        _ => return Ok(None),
+    };
+    let mut lone = scene.clone();
+    lone.feed = Feed::List(vec![ListShot {
+        position: scene.nozzle.inlet() + axis * depth + scene.nozzle.cross_axes().0 * offset,
+        velocity: axis * entry_speed,
+        diameter,
+        start: 0.0,
+    }]);
+    let fx = Effects {
+        specimen_contact: true,
+        shot_shot_contact: false,
+        nozzle_wall_contact: false,
+        friction: false,
+        turbulent_dispersion: false,
+        ..effects.clone()
+    };
+    // Long enough to reach the part: the scene's time, doubled until it does (up to 1 s).
+    let mut hit = None;
+    while hit.is_none() && lone.duration <= 1.0 {
+        let out = Simulation::new(&lone, &fx)?.run(&|_| {});
+        hit = out.impacts.first().map(|i| {
+            let v = crate::Vec3::new(i.vx_m_s, i.vy_m_s, i.vz_m_s);
+            (v.dot(&axis) - entry_speed, i.time_s)
+        });
+        lone.duration *= 2.0;
+    }
+    let Some((gain, time)) = hit else {
+        return Err(SceneError::Invalid {
+            path: scene.path.clone(),
+            key: "jet.coupling".into(),
+            message: "a shot flown alone from the feed's mean place never reaches the specimen \
+                      within 1 s, \
+                      so the momentum the shots take cannot be measured: use \"one_way\""
+                .into(),
+        });
+    };
+    Ok(Some(match &scene.feed {
+        Feed::Stream { rate, .. } => rate * mass * gain,
+        Feed::Batch { count, .. } => *count as f64 * mass * gain / time,
+        _ => unreachable!("BUG: only a stream or a batch is measured"),
+    }))
+}
+
+/// The scene the run uses and its air's speed factor `f` (1 with one-way coupling, or
+/// for a feed neither a stream nor a batch, which validation refuses with coupling).
+pub fn coupled(scene: &Scene, effects: &Effects) -> Result<(Scene, f64), SceneError> {
+    let jet = scene.core_density() * scene.air.exit_velocity.powi(2);
+    let thrust = jet * std::f64::consts::FRAC_PI_4 * scene.nozzle.bore.powi(2);
+    let mut f = 1.0;
+    for _ in 0..100 {
+        let Some(p) = taken(&scaled(scene, f), effects)? else {
+            return Ok((scene.clone(), 1.0));
+        };
+        let next = 1.0 - p / thrust;
+        if next < SLOWEST && f > SLOWEST {
+            // The fixed point may still lie above: try the slowest jet allowed. (`1 - P(f)
+            // / J` falls as `f` grows, so if it is below `f` there, so is the fixed point.)
+            f = SLOWEST;
+            continue;
+        }
+        if next < SLOWEST {
+            return Err(SceneError::Invalid {
+                path: scene.path.clone(),
+                key: "jet.coupling".into(),
+                message: format!(
+                    "the shots would slow the jet to below {:.0} % of its speed (in a jet at \
+                     {:.0} % they would still take {:.0} % of its momentum), beyond what this \
+                     first-order correction carries: lower the feed, or use \"one_way\" and \
+                     read its speeds as upper bounds",
+                    100.0 * SLOWEST,
+                    100.0 * SLOWEST,
+                    100.0 * p / thrust
+                ),
+            });
+        }
+        let done = (next - f).abs() < 1e-10;
+        f = next;
+        if done {
+            break;
+        }
+    }
+    Ok((scaled(scene, f), f))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_slowed_jet_carries_the_same_air_and_what_the_shots_leave_it() {
+        // The paper's batch: the fixed point holds to the iteration's tolerance, the air's
+        // mass flow is the free jet's and its momentum flow `f` times it.
+        let mut scene = Scene::default_scene();
+        scene.jet.coupling = Coupling::Momentum;
+        let effects = scene.effects();
+        let (slowed, f) = coupled(&scene, &effects).unwrap();
+        assert!(f > 0.85 && f < 0.99, "{f}");
+        let flow = |s: &Scene| {
+            let a = std::f64::consts::FRAC_PI_4 * s.nozzle.bore.powi(2);
+            (
+                s.core_density() * s.air.exit_velocity * a,
+                s.core_density() * s.air.exit_velocity.powi(2) * a,
+            )
+        };
+        let ((m0, j0), (m1, j1)) = (flow(&scene), flow(&slowed));
+        assert!((m1 / m0 - 1.0).abs() < 1e-12);
+        assert!((j1 / j0 - f).abs() < 1e-12);
+        assert_eq!(slowed.air.rho_ambient, scene.air.rho_ambient);
+        assert_eq!(slowed.jet.coupling, Coupling::OneWay);
+        let p = taken(&slowed, &effects).unwrap().unwrap();
+        assert!(
+            (1.0 - p / j0 - f).abs() < 1e-9,
+            "{f} against {}",
+            1.0 - p / j0
+        );
+        // A slower jet gives the shots less: the share at the fixed point is below the
+        // free jet's.
+        let free = taken(&scene, &effects).unwrap().unwrap();
+        assert!(p < free && p > 0.5 * free, "{p} {free}");
+    }
+
+    #[test]
+    fn feeds_it_cannot_measure_are_left_as_they_are() {
+        let mut scene = Scene::default_scene();
+        scene.jet.coupling = Coupling::Momentum;
+        scene.feed = Feed::List(vec![ListShot {
+            position: scene.nozzle.inlet(),
+            velocity: crate::Vec3::zeros(),
+            diameter: 0.8e-3,
+            start: 0.0,
+        }]);
+        let effects = scene.effects();
+        assert_eq!(taken(&scene, &effects).unwrap(), None);
+        assert_eq!(coupled(&scene, &effects).unwrap().1, 1.0);
+    }
+}
