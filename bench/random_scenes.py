@@ -14,7 +14,7 @@ they are the loader doing its job.
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
                                    [--dense] [--vacuum] [--verlet [--history] [--events]
                                    [--hybrid]] [--curves] [--cylinder | --groove | --gear]
-                                   [--layer [--wall-jet]]
+                                   [--layer [--wall-jet]] [--coupling]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -50,7 +50,10 @@ inside it is independent of peenflow's pieces (what the rack leaves of the blank
 rolls: `gear_side`) and skips the band of the rounded tip edges. With --layer (since
 session 57): a stagnation layer of random thickness in the scenes with air, above the
 plate or (since session 63, with --cylinder) round the bar, up to its radius; with
---wall-jet (session 58) the plate's wall jet too.
+--wall-jet (session 58) the plate's wall jet too. With --coupling (session 64; no draw,
+so the scenes are those without it): `jet.coupling = "momentum"` in the scenes with air
+and a stream or batch feed (the jet the shots slow; a feed too heavy for it is refused
+with a message).
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -704,6 +707,9 @@ def main():
     ap.add_argument("--wall-jet", action="store_true",
                     help="with --layer: the layer's wall jet too (`jet.wall_jet`), the jet "
                          "normal to the plate")
+    ap.add_argument("--coupling", action="store_true",
+                    help='the jet the shots slow (`jet.coupling = "momentum"`) in the '
+                         "scenes with air and a stream or batch feed")
     ap.add_argument("--events", action="store_true",
                     help="with --verlet: on the event scheduler (`scheduler = \"events\"`; "
                          "scenes without air: --ballistic or --vacuum)")
@@ -723,7 +729,7 @@ def main():
                  "needs scenes without air)")
     os.makedirs(a.out, exist_ok=True)
     failed, refused, t0 = 0, 0, time.time()
-    layered, walled = 0, 0
+    layered, walled, coupled = 0, 0, 0
     for k in range(a.count):
         r = random.Random(a.seed * 1_000_003 + k)
         path = os.path.join(a.out, f"scene_{a.seed}_{k}.toml")
@@ -753,6 +759,9 @@ def main():
         if a.layer:
             text = with_layer(random.Random(a.seed * 1_000_003 + k + 1_300_000_021), text,
                               a.wall_jet)
+        if a.coupling and "[jet]\n" in text and re.search(r'type = "(stream|batch)"', text):
+            text = text.replace("[jet]\n", '[jet]\ncoupling = "momentum"\n')
+            coupled += 1
         if a.events:
             # No draw either.
             for m in ("verlet", "hybrid"):
@@ -777,6 +786,7 @@ def main():
         f"{a.count} scenes in {time.time() - t0:.0f} s: {failed} went wrong, "
         f"{refused} refused with a message, {a.count - failed - refused} ran clean"
         + (f" ({layered} with a stagnation layer, {walled} with its wall jet)" if a.layer else "")
+        + (f" ({coupled} with the jet the shots slow)" if a.coupling else "")
     )
     sys.exit(1 if failed else 0)
 
