@@ -37,6 +37,14 @@ fn run(dir: &Path, args: &[&str], out: &str) -> (String, serde_json::Value) {
     )
 }
 
+/// examples/s330_stream.toml written into `dir` as s330.toml, and `edit` of its text as
+/// `name`.
+fn s330_and(dir: &Path, name: &str, edit: impl Fn(&str) -> String) {
+    peenflow(&["init", "--example", "s330_stream", "s330.toml"], dir);
+    let text = fs::read_to_string(dir.join("s330.toml")).unwrap();
+    fs::write(dir.join(name), edit(&text)).unwrap();
+}
+
 /// First hits with no shot-shot collision before them: `(mass, time, vz)`.
 fn clean_first_hits(dir: &Path) -> Vec<(f64, f64, f64)> {
     let mut rdr = csv::Reader::from_path(dir.join("impacts.csv")).unwrap();
@@ -137,14 +145,10 @@ fn the_share_follows_the_feed_and_warns_only_above_ten_percent() {
     // share falls about sixfold, below the warning's 10 %.
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    peenflow(&["init", "--example", "s330_stream", "s330.toml"], dir);
-    let text = fs::read_to_string(dir.join("s330.toml")).unwrap();
-    assert!(text.contains("mass_flow_kg_min = 3.0"), "{text}");
-    fs::write(
-        dir.join("low.toml"),
-        text.replace("mass_flow_kg_min = 3.0", "mass_flow_kg_min = 0.5"),
-    )
-    .unwrap();
+    s330_and(dir, "low.toml", |text| {
+        assert!(text.contains("mass_flow_kg_min = 3.0"), "{text}");
+        text.replace("mass_flow_kg_min = 3.0", "mass_flow_kg_min = 0.5")
+    });
     let (high_out, high) = run(dir, &["s330.toml"], "high");
     let (low_out, low) = run(dir, &["low.toml"], "low");
     let share = |l: &serde_json::Value| l["momentum_fraction"].as_f64().unwrap();
@@ -167,14 +171,10 @@ fn the_coupled_jet_is_slower_by_what_the_shots_take() {
     // 0.4-0.8 times that share (a lone shot's 0.6: docs/model.md).
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    peenflow(&["init", "--example", "s330_stream", "s330.toml"], dir);
-    let text = fs::read_to_string(dir.join("s330.toml")).unwrap();
-    assert!(!text.contains("[jet]"), "{text}");
-    fs::write(
-        dir.join("coupled.toml"),
-        format!("{text}\n[jet]\ncoupling = \"momentum\"\n"),
-    )
-    .unwrap();
+    s330_and(dir, "coupled.toml", |text| {
+        assert!(!text.contains("[jet]"), "{text}");
+        format!("{text}\n[jet]\ncoupling = \"momentum\"\n")
+    });
     let (_, free) = run(dir, &["s330.toml"], "free");
     let (stdout, coupled) = run(dir, &["coupled.toml"], "coupled");
     let f = coupled["air_speed_factor"].as_f64().unwrap();
