@@ -231,7 +231,8 @@ pub struct Summary {
     /// Impact radius of first hits in 5 mm bins (paper Figure 13).
     pub radius_histogram: Histogram,
     /// How heavily the shots load the air jet, from the first hits (beyond the paper:
-    /// [`crate::record::loading`]); absent without the jet or without enough first hits.
+    /// [`crate::record::loading`]); absent without the jet, without a first hit that met
+    /// no other shot before, and for feeds other than a stream or a batch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub jet_loading: Option<JetLoading>,
     /// Effects and why.
@@ -283,7 +284,7 @@ pub struct ZoneStats {
 
 /// Builds a summary from the records as a run hands them over (a [`RunSink`]): counts,
 /// and the few numbers per first hit that exact percentiles and the jet's loading need
-/// (56 bytes per shot that hits), never the records themselves.
+/// (at most 80 bytes per shot that hits), never the records themselves.
 #[derive(Debug, Clone, Default)]
 pub struct SummaryBuilder {
     normal: Vec<f64>,
