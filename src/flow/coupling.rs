@@ -146,11 +146,19 @@ pub fn taken(scene: &Scene, effects: &Effects) -> Result<Option<f64>, SceneError
     }))
 }
 
+/// The jet's air mass flow `rho_c u_i A` (kg/s) and momentum flow `rho_c u_i^2 A` (N: the
+/// nozzle's thrust in the model) through the bore of `scene`, at its exit state.
+pub fn jet_flows(scene: &Scene) -> (f64, f64) {
+    let area = std::f64::consts::FRAC_PI_4 * scene.nozzle.bore * scene.nozzle.bore;
+    let u = scene.air.exit_velocity;
+    let mass = scene.core_density() * u * area;
+    (mass, mass * u)
+}
+
 /// The scene the run uses and its air's speed factor `f` (1 with one-way coupling, or
 /// for a feed neither a stream nor a batch, which validation refuses with coupling).
 pub fn coupled(scene: &Scene, effects: &Effects) -> Result<(Scene, f64), SceneError> {
-    let jet = scene.core_density() * scene.air.exit_velocity.powi(2);
-    let thrust = jet * std::f64::consts::FRAC_PI_4 * scene.nozzle.bore.powi(2);
+    let thrust = jet_flows(scene).1;
     let mut f = 1.0;
     for _ in 0..100 {
         let Some(p) = taken(&scaled(scene, f), effects)? else {

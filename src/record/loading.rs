@@ -118,10 +118,7 @@ impl LoadingTally {
             return None;
         }
         let axis = scene.nozzle.axis();
-        let area = std::f64::consts::FRAC_PI_4 * scene.nozzle.bore * scene.nozzle.bore;
-        let (rho, u) = (scene.core_density(), scene.air.exit_velocity);
-        let air_mass_flow = rho * u * area;
-        let jet_momentum_flow = air_mass_flow * u;
+        let (air_mass_flow, jet_momentum_flow) = crate::flow::coupling::jet_flows(scene);
         // Each counted shot's momentum taken from the air, along the axis, and its time
         // in flight (a batch's from 0).
         let gains = self.clean.iter().map(|&(mass, time, momentum)| {
