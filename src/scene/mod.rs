@@ -222,7 +222,7 @@ impl SizeDistribution {
         let v = |d: f64| std::f64::consts::PI / 6.0 * d * d * d;
         match self {
             SizeDistribution::Fixed(d) => v(*d),
-            SizeDistribution::Normal { mean, .. } => v(*mean),
+            SizeDistribution::Normal { .. } => self.classes().iter().map(|(d, w)| v(*d) * w).sum(),
             SizeDistribution::Uniform { min, max } => {
                 // E[d^3] for d uniform on [min, max].
                 if max > min {
@@ -249,6 +249,89 @@ impl SizeDistribution {
                     })
                     .sum()
             }
+        }
+    }
+}
+
+/// Equal-width bins a normal's or a uniform's range is cut into by
+/// [`SizeDistribution::classes`].
+pub const SIZE_BINS: usize = 4;
+
+impl SizeDistribution {
+    /// Size classes standing for the distribution, as `(diameter, number weight)` with the
+    /// weights summing to 1 and each diameter the cube root of its class's mean `d^3`, so
+    /// `sum w pi/6 d^3` is the mean shot volume: one class per discrete size or sieve
+    /// interval, [`SIZE_BINS`] equal-width bins across a normal's (truncated, as drawn)
+    /// or a uniform's range.
+    pub fn classes(&self) -> Vec<(f64, f64)> {
+        let normalised = |c: Vec<(f64, f64)>| {
+            let total: f64 = c.iter().map(|x| x.1).sum();
+            c.into_iter()
+                .filter(|x| x.1 > 0.0)
+                .map(|(d, w)| (d, w / total))
+                .collect()
+        };
+        let bins = |min: f64, max: f64| {
+            (0..SIZE_BINS).map(move |k| {
+                let at = |j: usize| min + (max - min) * j as f64 / SIZE_BINS as f64;
+                (at(k), at(k + 1))
+            })
+        };
+        match self {
+            SizeDistribution::Fixed(d) => vec![(*d, 1.0)],
+            SizeDistribution::Uniform { min, max } if max > min => normalised(
+                bins(*min, *max)
+                    .map(|(a, b)| (uniform_d3(a, b).cbrt(), 1.0))
+                    .collect(),
+            ),
+            SizeDistribution::Normal {
+                mean,
+                std,
+                min,
+                max,
+            } if *std > 0.0 && max > min => normalised(
+                bins(*min, *max)
+                    .map(|(a, b)| {
+                        // The truncated normal's weight and mean d^3 over the bin, by
+                        // Simpson's rule on panels of at most a sixteenth of `std`.
+                        let n = 2 * ((8.0 * (b - a) / std).ceil() as usize).clamp(32, 1 << 15);
+                        let h = (b - a) / n as f64;
+                        let (mut w, mut d3) = (0.0, 0.0);
+                        for i in 0..=n {
+                            let d = a + h * i as f64;
+                            let s = if i == 0 || i == n {
+                                1.0
+                            } else {
+                                (2 + 2 * (i % 2)) as f64
+                            };
+                            let p = s * (-0.5 * ((d - mean) / std).powi(2)).exp();
+                            w += p;
+                            d3 += p * d * d * d;
+                        }
+                        if w > 0.0 {
+                            ((d3 / w).cbrt(), w)
+                        } else {
+                            (a, 0.0)
+                        }
+                    })
+                    .collect(),
+            ),
+            SizeDistribution::Normal { mean, .. } => vec![(*mean, 1.0)],
+            SizeDistribution::Uniform { min, .. } => vec![(*min, 1.0)],
+            SizeDistribution::Sieve { edges, weights } => normalised(
+                weights
+                    .iter()
+                    .enumerate()
+                    .map(|(k, w)| (uniform_d3(edges[k], edges[k + 1]).cbrt(), *w))
+                    .collect(),
+            ),
+            SizeDistribution::Discrete { diameters, weights } => normalised(
+                diameters
+                    .iter()
+                    .cloned()
+                    .zip(weights.iter().cloned())
+                    .collect(),
+            ),
         }
     }
 }
