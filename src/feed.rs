@@ -313,8 +313,14 @@ impl StreamFeed {
     }
 }
 
-/// The scene's shots, in id order.
+/// The scene's shots, in id order; a list's shots that overlap at the start are refused.
 pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
+    placed_shots(scene, true)
+}
+
+/// The scene's shots, in id order; a list's shots that overlap at the start are refused
+/// if `apart` (they would meet: shot-shot contact is on), let be if not.
+pub fn placed_shots(scene: &Scene, apart: bool) -> Result<Vec<ShotState>, SceneError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
     let rho = scene.shot_material.density;
     // Placement in the nozzle frame: centres at a depth below the inlet plane along the
@@ -449,7 +455,8 @@ pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
             }
             for (i, a) in shots.iter().enumerate() {
                 for b in &shots[..i] {
-                    if a.t_start == 0.0
+                    if apart
+                        && a.t_start == 0.0
                         && b.t_start == 0.0
                         && (a.pos - b.pos).norm() < a.body.radius + b.body.radius
                     {

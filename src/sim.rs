@@ -1132,7 +1132,7 @@ impl Simulation {
             sim.feed = Some((feed, first));
             return Ok(sim);
         }
-        let shots = crate::feed::initial_shots(scene)?;
+        let shots = crate::feed::placed_shots(scene, physics.contacts.pair.is_some())?;
         if let Some(w) = &physics.contacts.wall
             && matches!(
                 scene.feed,

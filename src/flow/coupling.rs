@@ -9,13 +9,12 @@
 //! the bore `f = 1 - P / J` as fast and `1 / f` as dense. Every region of the field keeps
 //! its shape; its speeds scale by `f` and its densities but the ambient air's by `1 / f`.
 //! `P` depends on `f` (a slower jet gives less), so `f` is the fixed point of
-//! `f = 1 - P(f) / J`, found by iteration. `P(f)` is read from one shot of the feed's
-//! mean mass flown alone from where the feed puts its shots on average (mean depth, mean
-//! offset from the axis; on the axis if that shot misses the part), in the jet scaled by
-//! `f`, to its first hit: a stream takes its rate times that shot's momentum gain along
-//! the axis, a batch its size times that gain over the flight time (the batch's shots
-//! fly together). A mean-field, first-order correction: the jet's profile is the
-//! paper's, and the shots' drag does not reshape it.
+//! `f = 1 - P(f) / J`, found by iteration. `P(f)` is read from lone shots flown, in the
+//! jet scaled by `f`, to their first hits: one per size class of the feed and ring of
+//! starting offsets ([`taken`]). A stream takes its rate times their weighted momentum
+//! gain along the axis, a batch its size times that gain over the flight time (the
+//! batch's shots fly together). A mean-field, first-order correction: the jet's profile
+//! is the paper's, and the shots' drag does not reshape it.
 
 use crate::scene::{Effects, Feed, ListShot, Scene, SceneError};
 use crate::sim::Simulation;
@@ -56,43 +55,53 @@ pub fn scaled(scene: &Scene, f: f64) -> Scene {
     s
 }
 
+/// Rings of equal area the feed's disc or ring of starting offsets is cut into, one lone
+/// shot per ring and size class.
+pub const RINGS: usize = 3;
+
 /// The momentum (N, along the jet's axis) the feed's shots take per second from the jet
-/// of `scene` (its air as it stands), read from one shot of the mean mass flown alone
-/// from the feed's mean place to its first hit; `None` for feeds other than a stream and
-/// a batch.
+/// of `scene` (its air as it stands), read from lone shots flown from the feed's places
+/// to their first hits: one per size class ([`crate::scene::SizeDistribution::classes`])
+/// and ring of starting offsets ([`RINGS`]), at the feed's mean depth; `None` for feeds
+/// other than a stream and a batch.
 pub fn taken(scene: &Scene, effects: &Effects) -> Result<Option<f64>, SceneError> {
     let axis = scene.nozzle.axis();
-    let volume = scene.sizes.mean_volume();
-    let mass = scene.shot_material.density * volume;
-    let diameter = (6.0 * volume / std::f64::consts::PI).cbrt();
-    // Where the feed puts its shots on average: the mean depth, and the mean offset from
-    // the axis of centres spread evenly over the disc or ring they are drawn on (off the
-    // axis the free jet is slower: an on-axis shot took 13 % more than a stream's own).
-    let mean_offset = |a: f64, b: f64| {
-        if b > a {
-            2.0 / 3.0 * (b.powi(3) - a.powi(3)) / (b * b - a * a)
-        } else {
-            a
-        }
+    // The centres spread evenly over the disc or ring they are drawn on: `RINGS` rings of
+    // equal area, each at its mean offset (off the axis the free jet is slower: a shot on
+    // the axis took 13 % more than a stream's own).
+    let rings = |a: f64, b: f64| {
+        let at = move |j: usize| (a * a + (b * b - a * a) * j as f64 / RINGS as f64).sqrt();
+        (0..RINGS).map(move |j| {
+            let (a, b) = (at(j), at(j + 1));
+            if b > a {
+                2.0 / 3.0 * (b.powi(3) - a.powi(3)) / (b * b - a * a)
+            } else {
+                a
+            }
+        })
     };
-    let (depth, offset, entry_speed) = match &scene.feed {
-        Feed::Stream { entry_speed, .. } => (
-            0.0,
-            mean_offset(0.0, 0.5 * (scene.nozzle.bore - diameter)),
-            *entry_speed,
-        ),
-        Feed::Batch {
-            axial_spread,
-            radial_min,
-            radial_max,
-            ..
-        } => (
-            0.5 * axial_spread,
-            mean_offset(*radial_min, *radial_max),
-            0.0,
-        ),
+    let (depth, entry_speed) = match &scene.feed {
+        Feed::Stream { entry_speed, .. } => (0.0, *entry_speed),
+        Feed::Batch { axial_spread, .. } => (0.5 * axial_spread, 0.0),
         _ => return Ok(None),
     };
+    // (diameter, weight, offset) of each lone shot.
+    let lone: Vec<(f64, f64, f64)> = scene
+        .sizes
+        .classes()
+        .into_iter()
+        .flat_map(|(d, w)| {
+            let (a, b) = match &scene.feed {
+                Feed::Batch {
+                    radial_min,
+                    radial_max,
+                    ..
+                } => (*radial_min, *radial_max),
+                _ => (0.0, 0.5 * (scene.nozzle.bore - d)),
+            };
+            rings(a, b).map(move |r| (d, w / RINGS as f64, r))
+        })
+        .collect();
     let fx = Effects {
         specimen_contact: true,
         shot_shot_contact: false,
@@ -101,47 +110,74 @@ pub fn taken(scene: &Scene, effects: &Effects) -> Result<Option<f64>, SceneError
         turbulent_dispersion: false,
         ..effects.clone()
     };
-    // From the mean place, or, if that shot misses the part (a thin bar across a tilted
-    // jet), from the axis, which runs through the part. Long enough to reach it: the
-    // scene's time, doubled until it does (up to 1 s).
-    let mut hit = None;
-    for offset in [offset, 0.0] {
-        let mut lone = scene.clone();
-        lone.feed = Feed::List(vec![ListShot {
-            position: scene.nozzle.inlet() + axis * depth + scene.nozzle.cross_axes().0 * offset,
-            velocity: axis * entry_speed,
-            diameter,
-            start: 0.0,
-        }]);
-        while hit.is_none() && lone.duration <= 1.0 {
-            let out = Simulation::new(&lone, &fx)?.run(&|_| {});
-            hit = out.impacts.first().map(|i| {
-                let v = crate::Vec3::new(i.vx_m_s, i.vy_m_s, i.vz_m_s);
-                (v.dot(&axis) - entry_speed, i.time_s)
-            });
-            if out.shots.iter().any(|s| s.status != ShotStatus::Active) {
-                // Gone (out of the domain): more time will not bring it back.
-                break;
+    // Flown together (they do not meet), long enough to reach the part: the scene's time,
+    // doubled until each has hit it or gone (up to 1 s). A shot that misses the part (a
+    // thin bar across a tilted jet) is flown again down the axis, which runs through it.
+    let fly = |offsets: &[(f64, f64)]| -> Result<Vec<Option<(f64, f64)>>, SceneError> {
+        let mut run = scene.clone();
+        run.feed = Feed::List(
+            offsets
+                .iter()
+                .map(|&(diameter, offset)| ListShot {
+                    position: scene.nozzle.inlet()
+                        + axis * depth
+                        + scene.nozzle.cross_axes().0 * offset,
+                    velocity: axis * entry_speed,
+                    diameter,
+                    start: 0.0,
+                })
+                .collect(),
+        );
+        let mut hits = vec![None; offsets.len()];
+        loop {
+            let out = Simulation::new(&run, &fx)?.run(&|_| {});
+            for i in &out.impacts {
+                let first = &mut hits[i.shot as usize];
+                if first.is_none_or(|(_, t)| i.time_s < t) {
+                    let v = crate::Vec3::new(i.vx_m_s, i.vy_m_s, i.vz_m_s);
+                    *first = Some((v.dot(&axis) - entry_speed, i.time_s));
+                }
             }
-            lone.duration *= 2.0;
+            let waiting = hits
+                .iter()
+                .zip(&out.shots)
+                .any(|(h, s)| h.is_none() && s.status == ShotStatus::Active);
+            run.duration *= 2.0;
+            if !waiting || run.duration > 1.0 {
+                return Ok(hits);
+            }
         }
-        if hit.is_some() {
-            break;
+    };
+    let mut hits = fly(&lone.iter().map(|l| (l.0, l.2)).collect::<Vec<_>>())?;
+    let missed: Vec<usize> = (0..lone.len()).filter(|&i| hits[i].is_none()).collect();
+    if !missed.is_empty() {
+        let again = fly(&missed.iter().map(|&i| (lone[i].0, 0.0)).collect::<Vec<_>>())?;
+        for (&i, hit) in missed.iter().zip(again) {
+            hits[i] = hit;
         }
     }
-    let Some((gain, time)) = hit else {
+    if hits.iter().any(Option::is_none) {
         return Err(SceneError::Invalid {
             path: scene.path.clone(),
             key: "jet.coupling".into(),
-            message: "a shot flown alone from the feed's mean place, or down the axis, never \
+            message: "a shot flown alone from the feed's place, or down the axis, never \
                       reaches the specimen within 1 s, so the momentum the shots take cannot \
                       be measured: use \"one_way\""
                 .into(),
         });
-    };
+    }
+    // Each lone shot's share of a fed shot's momentum gain (and that over its flight).
+    let density = scene.shot_material.density;
+    let (mut gain, mut per_second) = (0.0, 0.0);
+    for (&(d, w, _), hit) in lone.iter().zip(hits) {
+        let (g, t) = hit.expect("BUG: checked above");
+        let m = density * std::f64::consts::PI / 6.0 * d * d * d;
+        gain += w * m * g;
+        per_second += w * m * g / t;
+    }
     Ok(Some(match &scene.feed {
-        Feed::Stream { rate, .. } => rate * mass * gain,
-        Feed::Batch { count, .. } => *count as f64 * mass * gain / time,
+        Feed::Stream { rate, .. } => rate * gain,
+        Feed::Batch { count, .. } => *count as f64 * per_second,
         _ => unreachable!("BUG: only a stream or a batch is measured"),
     }))
 }
