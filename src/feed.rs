@@ -313,9 +313,10 @@ impl StreamFeed {
     }
 }
 
-/// The scene's shots, in id order; a list's shots that overlap at the start are refused.
+/// The scene's shots, in id order; a list's shots that overlap at the start are refused
+/// if the scene's shot-shot contact is on.
 pub fn initial_shots(scene: &Scene) -> Result<Vec<ShotState>, SceneError> {
-    placed_shots(scene, true)
+    placed_shots(scene, scene.effects().shot_shot_contact)
 }
 
 /// The scene's shots, in id order; a list's shots that overlap at the start are refused
