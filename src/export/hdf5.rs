@@ -15,6 +15,8 @@
 //!                        the shot stopped, then id; shots in the domain at the end last
 //! /never_hit/<column>    the same columns for the shots that never reached the specimen
 //! /summary/normal_speed_histogram/{lower_edges, counts}, /summary/radius_histogram/...
+//! /summary/jet_loading   attrs: summary.json's `jet_loading`, one per field (a stream's
+//!                        or a batch's runs in the jet)
 //! ```
 //! The file is written under a temporary name and renamed when closed. A table that fits
 //! in one block of 8,192 rows is stored as contiguous datasets; a longer one as chunked
@@ -653,6 +655,22 @@ impl Tables {
             .map_err(&e)?;
         g.set_attr_numeric("shots_hit", &(summary.shots_hit as u64))
             .map_err(&e)?;
+        if let Some(loading) = &summary.jet_loading {
+            // One attribute per field of summary.json's `jet_loading`.
+            let l = g.create_group("jet_loading").map_err(&e)?;
+            let fields = serde_json::to_value(loading).expect("BUG: loading serialises");
+            for (name, value) in fields.as_object().expect("BUG: a struct") {
+                match value {
+                    serde_json::Value::String(text) => l.set_attr_string(name, text),
+                    serde_json::Value::Number(n) => match n.as_u64() {
+                        Some(count) => l.set_attr_numeric(name, &count),
+                        None => l.set_attr_numeric(name, &n.as_f64().expect("BUG: a number")),
+                    },
+                    other => unreachable!("BUG: jet_loading field {name} = {other}"),
+                }
+                .map_err(&e)?;
+            }
+        }
         write_histogram(
             &g,
             "normal_speed_histogram",

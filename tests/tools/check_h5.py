@@ -1,8 +1,8 @@
 """Reads a peenflow impacts.h5 with h5py (the official HDF5 library) and compares every
 impact record with impacts.csv, value for value, and checks that every contact point lies on
 the specimen's surface (the plane z = 0, or the cylinder or the groove the root attributes
-describe; the groove's surface is drawn here as a dense polyline from its dimensions).
-Exit 0 and print 'ok N' on success."""
+describe; the groove's surface is drawn here as a dense polyline from its dimensions),
+and that /summary/jet_loading holds summary.json's jet_loading. Exit 0 and print 'ok N' on success."""
 import csv
 import sys
 
@@ -89,6 +89,18 @@ with h5py.File(h5_path, "r") as f:
             assert got == want, f"{name}[{k}]: h5 {got!r} csv {want!r}"
     for grp in ("shots", "never_hit", "summary/normal_speed_histogram", "summary/radius_histogram"):
         assert grp in f, f"group {grp} missing"
+    # summary.json's jet loading, one attribute per field (when the run has one).
+    import json
+    loading = json.loads(f.attrs["summary_json"]).get("jet_loading")
+    if loading is not None:
+        got = f["summary/jet_loading"].attrs
+        assert set(got.keys()) == set(loading.keys()), (sorted(got.keys()), sorted(loading))
+        for key, want in loading.items():
+            value = got[key]
+            value = value.decode() if isinstance(value, bytes) else value
+            assert value == want, f"jet_loading {key}: h5 {value!r} json {want!r}"
+    else:
+        assert "summary/jet_loading" not in f
     for name, ds in f["shots"].items():
         assert ds.attrs["units"] is not None
     nh = set(int(x) for x in f["never_hit/shot"][:])
