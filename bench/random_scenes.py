@@ -14,7 +14,8 @@ they are the loader doing its job.
                                    [--seed 1] [--out /tmp/peenflow-random] [--ballistic]
                                    [--dense] [--vacuum] [--verlet [--history] [--events]
                                    [--hybrid]] [--curves] [--cylinder | --groove | --gear]
-                                   [--layer [--wall-jet]] [--coupling]
+                                   [--layer [--wall-jet]] [--coupling] [--sizes]
+                                   [--show-refusals]
 
 Scenes mix batch, stream and list feeds; tilted nozzles from 3 to 12 mm bores; single
 sizes, uniform spreads and S330/S230 sieves; restitutions, friction, turbulence, the
@@ -53,7 +54,8 @@ plate or (since session 63, with --cylinder) round the bar, up to its radius; wi
 --wall-jet (session 58) the plate's wall jet too. With --coupling (session 64; no draw,
 so the scenes are those without it): `jet.coupling = "momentum"` in the scenes with air
 and a stream or batch feed (the jet the shots slow; a feed too heavy for it is refused
-with a message).
+with a message). With --sizes (session 65; its own generator): a batch's or a stream's
+single shot size turned into a truncated normal or three discrete sizes, none larger.
 Each run is one thread and at most 2 minutes. A failing scene is kept in --out (with
 its output directory) to be replayed; the others are deleted. Session 23 ran about
 3,200 of them: the faults it found are fixed and tested (docs/errors.md, "Random
@@ -295,6 +297,33 @@ def nozzle_table(bore, length, standoff, angle, azimuth):
         f"angle_deg = {angle:.2f}",
         f"azimuth_deg = {azimuth:.1f}",
     ]
+
+
+def with_sizes(r, text):
+    """The scene's single shot size `D` (its `[shots] diameter_mm`) turned into a spread
+    of sizes no larger than `D`: a truncated normal (mean 0.7-1 `D`, standard deviation
+    3-20 % of it, cut at 0.5-0.9 `D` and at `D`) or three discrete sizes with random
+    weights. Scenes with a spread already, and list feeds (whose shots name their own
+    sizes), are left as they are."""
+    m = re.search(r"(?m)^diameter_mm = ([0-9.]+)\n", text)
+    if not m or 'type = "list"' in text:
+        return text
+    d = float(m.group(1))
+    lo = r.uniform(0.5, 0.9) * d
+    if r.random() < 0.6:
+        mean = r.uniform(max(lo, 0.7 * d), d)
+        spread = [
+            "[shots.size_distribution]", 'type = "normal"', f"mean_mm = {mean:.4f}",
+            f"std_mm = {r.uniform(0.03, 0.2) * mean:.4f}", f"min_mm = {lo:.4f}", f"max_mm = {d:.4f}",
+        ]
+    else:
+        sizes = ", ".join(f"{x:.4f}" for x in (lo, 0.5 * (lo + d), d))
+        weights = ", ".join(f"{r.uniform(0.1, 5.0):.3f}" for _ in range(3))
+        spread = ["[shots.size_distribution]", 'type = "discrete"', f"diameters_mm = [{sizes}]",
+                  f"weights = [{weights}]"]
+    # The table goes where `[shots.feed]` starts (a sub-table of [shots]).
+    text = text.replace(m.group(0), "", 1)
+    return text.replace("[shots.feed]\n", "\n".join(spread) + "\n[shots.feed]\n", 1)
 
 
 def with_layer(r, text, wall_jet=False):
@@ -592,7 +621,8 @@ def energy_at_end(shots_csv, g):
 
 
 def check(binary, path, out, energy):
-    """What went wrong with one run (empty: nothing), and whether the scene was refused.
+    """What went wrong with one run (empty: nothing), and the message the scene was
+    refused with (empty: it ran).
     `energy`: the scene is one of the generators' scenes without air (--ballistic,
     --vacuum), whose energy must not grow (`energy_bound`)."""
     try:
@@ -601,11 +631,11 @@ def check(binary, path, out, energy):
             capture_output=True, text=True, timeout=120,
         )
     except subprocess.TimeoutExpired:
-        return ["time-out (2 minutes)"], False
+        return ["time-out (2 minutes)"], ""
     if "panicked" in res.stderr:
-        return [f"panic: {res.stderr.strip()[:300]}"], False
+        return [f"panic: {res.stderr.strip()[:300]}"], ""
     if res.returncode == 2:
-        return [], True
+        return [], res.stderr.strip()
     bad = []
     if res.returncode != 0:
         bad.append(f"exit {res.returncode}: {res.stderr.strip()[:300]}")
@@ -666,7 +696,7 @@ def check(binary, path, out, energy):
                 break
     except (OSError, ValueError, KeyError) as e:
         bad.append(f"unreadable outputs: {e}")
-    return bad, False
+    return bad, ""
 
 
 def main():
@@ -707,6 +737,11 @@ def main():
     ap.add_argument("--wall-jet", action="store_true",
                     help="with --layer: the layer's wall jet too (`jet.wall_jet`), the jet "
                          "normal to the plate")
+    ap.add_argument("--show-refusals", action="store_true",
+                    help="print each refused scene's message (they are counted either way)")
+    ap.add_argument("--sizes", action="store_true",
+                    help="a single shot size turned into a spread (truncated normal or "
+                         "discrete) no larger than it, from a generator of its own")
     ap.add_argument("--coupling", action="store_true",
                     help='the jet the shots slow (`jet.coupling = "momentum"`) in the '
                          "scenes with air and a stream or batch feed")
@@ -756,6 +791,8 @@ def main():
             text = with_groove(random.Random(a.seed * 1_000_003 + k + 900_000_011), text)
         if a.gear:
             text = with_gear(random.Random(a.seed * 1_000_003 + k + 1_100_000_017), text)
+        if a.sizes:
+            text = with_sizes(random.Random(a.seed * 1_000_003 + k + 1_500_000_023), text)
         if a.layer:
             text = with_layer(random.Random(a.seed * 1_000_003 + k + 1_300_000_021), text,
                               a.wall_jet)
@@ -774,8 +811,10 @@ def main():
         # The energy check reads the keys those two generators write (the other
         # generators may switch drag off with the lateral force still on, and leave
         # gravity at its default).
-        bad, was_refused = check(a.binary, path, out, a.ballistic or a.vacuum)
-        refused += was_refused
+        bad, refusal = check(a.binary, path, out, a.ballistic or a.vacuum)
+        refused += bool(refusal)
+        if refusal and a.show_refusals:
+            print(f"refused: scene {k}: {refusal}", flush=True)
         if bad:
             failed += 1
             print(f"{path}: " + " | ".join(bad), flush=True)

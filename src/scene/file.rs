@@ -557,8 +557,9 @@ pub struct MaterialFile {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct DomainFile {
-    /// Shots farther than this from the jet axis foot are dropped, mm.
-    pub radius_mm: f64,
+    /// Shots farther than this from the vertical through the jet axis' foot are dropped,
+    /// mm (default: 250, or more to take in a tilted nozzle's inlet with 50 mm to spare).
+    pub radius_mm: Option<f64>,
     /// Shots higher than this above the nozzle inlet are dropped, mm.
     pub above_inlet_mm: f64,
 }
@@ -566,7 +567,7 @@ pub struct DomainFile {
 impl Default for DomainFile {
     fn default() -> Self {
         DomainFile {
-            radius_mm: 250.0,
+            radius_mm: None,
             above_inlet_mm: 50.0,
         }
     }

@@ -11,6 +11,13 @@ use crate::flow::coupling::Coupling;
 use crate::flow::{AirState, JetModel};
 use crate::state::Domain;
 
+/// The domain's radius when the scene leaves it out, m (unless the nozzle reaches
+/// farther: [`DOMAIN_SPARE`]).
+pub const DEFAULT_DOMAIN_RADIUS: f64 = 0.25;
+
+/// How far the default domain reaches beyond a tilted nozzle, m.
+pub const DOMAIN_SPARE: f64 = 0.05;
+
 /// A closed or open interval bound for range checks.
 #[derive(Clone, Copy)]
 enum B {
@@ -1670,14 +1677,36 @@ impl SceneFile {
             ));
         }
         let dm = &f.domain;
+        // How far the nozzle reaches from the vertical through the jet axis' foot: a
+        // tilted nozzle's inlet lies `(standoff + length) cos(angle)` off it.
+        let reach = [nozzle.inlet(), nozzle.exit()]
+            .iter()
+            .map(|p| p.x.hypot(p.y))
+            .fold(0.0, f64::max)
+            + 0.5 * nozzle.outer.max(nozzle.bore);
+        let radius = match dm.radius_mm {
+            None => DEFAULT_DOMAIN_RADIUS.max(reach + DOMAIN_SPARE),
+            Some(r) => {
+                let r = c.range("domain.radius_mm", r, B::Ex(0.0), B::In(1e5), "mm")? * 1e-3;
+                if r < reach {
+                    return Err(c.invalid(
+                        "domain.radius_mm",
+                        format!(
+                            "{} mm leaves part of the nozzle outside the domain (it reaches {} \
+                             mm from the vertical through the jet axis' foot): its shots would \
+                             be dropped as they start; set at least {} mm, or leave radius_mm \
+                             out",
+                            num(r * 1e3),
+                            num(reach * 1e3),
+                            num((reach * 1e3).ceil())
+                        ),
+                    ));
+                }
+                r
+            }
+        };
         let domain = Domain {
-            radius: c.range(
-                "domain.radius_mm",
-                dm.radius_mm,
-                B::Ex(0.0),
-                B::In(1e5),
-                "mm",
-            )? * 1e-3,
+            radius,
             top: nozzle.inlet().z.max(nozzle.exit().z)
                 + c.range(
                     "domain.above_inlet_mm",
