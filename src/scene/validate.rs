@@ -33,6 +33,17 @@ struct Checker<'a> {
 
 impl Checker<'_> {
     fn range(&self, key: &str, v: f64, lo: B, hi: B, unit: &str) -> Result<f64, SceneError> {
+        // A bound computed from other keys carries their rounding (0.6410000000000001):
+        // it is held, and shown, to 12 significant digits, so the value the message
+        // allows passes.
+        let tidy = |b: B| {
+            let round = |x: f64| format!("{x:.11e}").parse().unwrap_or(x);
+            match b {
+                B::In(x) => B::In(round(x)),
+                B::Ex(x) => B::Ex(round(x)),
+            }
+        };
+        let (lo, hi) = (tidy(lo), tidy(hi));
         let ok_lo = match lo {
             B::In(l) => v >= l,
             B::Ex(l) => v > l,
@@ -124,8 +135,7 @@ fn groove(
     let radius = c.range(
         "specimen.radius_mm",
         need("specimen.radius_mm", sf.radius_mm)?,
-        // (rounded to 1e-12 mm, so that the message shows 0.6 and not 0.6000000000000001)
-        B::In((1.5 * r_mm * 1e12).round() / 1e12),
+        B::In(1.5 * r_mm),
         B::In(1e4),
         "mm (from 1.5 times the largest shot's radius: a shot in a tighter fillet touches it \
          along an arc, beyond Hertz's contact)",
@@ -272,7 +282,7 @@ fn gear(
     let radius = c.range(
         "specimen.radius_mm",
         sf.radius_mm.unwrap_or(0.38 * m),
-        B::In((1.5 * r_mm * 1e12).round() / 1e12),
+        B::In(1.5 * r_mm),
         B::In(m),
         "mm (the root fillets, the cutter's tip radius; 0.38 modules when left out: from \
          1.5 times the largest shot's radius, a shot in a tighter fillet touches it along an \
