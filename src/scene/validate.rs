@@ -34,8 +34,9 @@ struct Checker<'a> {
 impl Checker<'_> {
     fn range(&self, key: &str, v: f64, lo: B, hi: B, unit: &str) -> Result<f64, SceneError> {
         // A bound computed from other keys carries their rounding (0.6410000000000001):
-        // it is held, and shown, to 12 significant digits, so the value the message
-        // allows passes.
+        // it is shown to 12 significant digits, and a value passes that meets the bound
+        // either as computed or as shown (so the value the message allows passes, and so
+        // does one at the computed bound itself).
         let tidy = |b: B| {
             let round = |x: f64| format!("{x:.11e}").parse().unwrap_or(x);
             match b {
@@ -43,15 +44,17 @@ impl Checker<'_> {
                 B::Ex(x) => B::Ex(round(x)),
             }
         };
-        let (lo, hi) = (tidy(lo), tidy(hi));
-        let ok_lo = match lo {
+        let above = |b: B| match b {
             B::In(l) => v >= l,
             B::Ex(l) => v > l,
         };
-        let ok_hi = match hi {
+        let below = |b: B| match b {
             B::In(h) => v <= h,
             B::Ex(h) => v < h,
         };
+        let ok_lo = above(lo) || above(tidy(lo));
+        let ok_hi = below(hi) || below(tidy(hi));
+        let (lo, hi) = (tidy(lo), tidy(hi));
         if ok_lo && ok_hi && v.is_finite() {
             return Ok(v);
         }
