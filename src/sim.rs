@@ -40,6 +40,11 @@ const MIN_WINDOW: f64 = 1e-8;
 const VERLET_WINDOW: f64 = 0.125;
 /// Largest island the window length tries to keep (see `Simulation::window`).
 pub(crate) const MAX_ISLAND: usize = 32;
+/// The windows' neighbour search widens each ball by this many of its shot's diameters
+/// when the window has the same shots as the one before, and the windows after it reuse
+/// what it found while every shot stays inside its widened ball
+/// ([`CellList::pairs_tracked`]; the same pairs as a search of its own).
+const BROAD_SKIN: f64 = 0.05;
 
 /// How a run schedules its shots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -1852,6 +1857,7 @@ impl Simulation {
         let mut ids = Vec::with_capacity(idx.len() + self.sleepers.len());
         let mut centres = Vec::with_capacity(ids.capacity());
         let mut inflated = Vec::with_capacity(ids.capacity());
+        let mut skin = Vec::with_capacity(ids.capacity());
         let (t0, h) = (self.t, t1 - self.t);
         // Which entries are sleepers, and which met another ball.
         let mut asleep = Vec::with_capacity(ids.capacity());
@@ -1861,22 +1867,25 @@ impl Simulation {
                 ids.push(z.id);
                 centres.push(z.centre(t0));
                 inflated.push(z.radius(h));
+                skin.push(BROAD_SKIN * z.diameter);
                 asleep.push(true);
             }
             ids.push(i);
             centres.push(self.shots[i].pos);
             inflated.push(reach[i]);
+            skin.push(2.0 * BROAD_SKIN * self.shots[i].body.radius);
             asleep.push(false);
         }
         for z in zs {
             ids.push(z.id);
             centres.push(z.centre(t0));
             inflated.push(z.radius(h));
+            skin.push(BROAD_SKIN * z.diameter);
             asleep.push(true);
         }
         self.work.neighbour_searches += 1;
         // Shot ids are their indices and `ids` ascends: the pairs stay sorted.
-        let local = self.cells.pairs_tracked(&centres, &inflated, &ids);
+        let local = self.cells.pairs_tracked(&centres, &inflated, &ids, &skin);
         // Shots with a pair (a lone one among them does not fall asleep after the window:
         // it would wake at once), and the sleepers met.
         let mut met = vec![false; ids.len()];

@@ -13,6 +13,12 @@
 //! Calls for items that move little from one call to the next (the window scheduler's
 //! shots, [`CellList::pairs_tracked`]) start the sort from the previous call's order and
 //! finish it by insertion: the same order and pairs, without a full sort per window.
+//! When such a call has the same items as the one before, its search runs with each
+//! radius widened by a skin (a DEM code's neighbour-list skin) and keeps what it found;
+//! the following calls filter those pairs while every item stays inside its widened ball
+//! (its move since plus its new radius within the widened radius), which by the triangle
+//! inequality holds every pair a fresh search would find: the same pairs, without a
+//! search per call where short windows follow each other in a dense pile.
 //!
 //! The cell list, in O(N) expected time.
 //! Each item is a centre and an inflated radius (shot radius plus how far it can move
@@ -151,6 +157,50 @@ const SWEEP_BUDGET: usize = 24;
 /// afresh).
 const AXIS_KEPT: u32 = 16;
 
+/// A tracked call's pairs within skin-widened radii, kept for the calls after it
+/// ([`CellList::pairs_tracked`]).
+#[derive(Debug, Default, Clone)]
+struct Skin {
+    /// The previous tracked call's ids (ascending): a search is widened when the next
+    /// call has the same.
+    last_ids: Vec<usize>,
+    /// Whether `centres`, `widened` and `pairs` hold a search for `last_ids`.
+    held: bool,
+    /// The widened search's centres and radii (its items being `last_ids`).
+    centres: Vec<Vec3>,
+    widened: Vec<f64>,
+    /// Its pairs (local indices, sorted).
+    pairs: Vec<(u32, u32)>,
+    /// The calls that filtered them so far.
+    uses: u32,
+    /// Widened searches in a row not filtered even once, and the calls still to wait
+    /// before the next (`2^misses` after a miss).
+    misses: u32,
+    wait: u32,
+}
+
+impl Skin {
+    /// Whether the kept pairs hold every pair of `centres` with `radii` (the same items):
+    /// each item's move since the widened search plus its radius stays within its
+    /// widened radius, less a slack far above the rounding.
+    fn covers(&self, centres: &[Vec3], radii: &[f64]) -> bool {
+        self.held
+            && self
+                .centres
+                .iter()
+                .zip(&self.widened)
+                .zip(centres.iter().zip(radii))
+                .all(|((c0, &w), (c, &r))| {
+                    let slack = 1e-9 * (w + c0.amax());
+                    (c - c0).norm() + r + slack <= w
+                })
+    }
+}
+
+/// At most `2^SKIN_BACKOFF` tracked calls wait between widened searches that nobody
+/// filtered.
+const SKIN_BACKOFF: u32 = 6;
+
 /// Reusable broad phase (sweep buffers and cell grids).
 #[derive(Debug, Default, Clone)]
 pub struct CellList {
@@ -164,6 +214,10 @@ pub struct CellList {
     swept: bool,
     /// Whether the last call's sweep order came from the previous one's (for tests).
     reused: bool,
+    /// The tracked calls' skin.
+    skin: Skin,
+    /// Whether the last call filtered the skin's pairs instead of searching (for tests).
+    skinned: bool,
 }
 
 /// A tracked call's sweep axis, its items' ids (ascending) and their sweep order (by
@@ -215,14 +269,68 @@ impl CellList {
     /// little from one call to the next (a window scheduler's shots): a sweep starts
     /// from the previous tracked call's order, sorted again by insertion (the same
     /// order, and so the same pairs, at a fraction of a full sort's cost).
+    ///
+    /// A call with the same ids as the previous tracked call searches with each radius
+    /// widened by `skin` (indexed alike) and keeps those pairs; the calls after it filter
+    /// them for as long as they hold every pair (module docs). Either way the result is
+    /// exactly [`CellList::pairs`]'.
     pub fn pairs_tracked(
         &mut self,
         centres: &[Vec3],
         radii: &[f64],
         ids: &[usize],
+        skin: &[f64],
     ) -> Vec<(u32, u32)> {
         debug_assert!(ids.windows(2).all(|w| w[0] < w[1]));
-        self.pairs_of(centres, radii, Some(ids))
+        debug_assert!(centres.len() == radii.len() && radii.len() == skin.len());
+        let same = self.skin.last_ids == ids;
+        if same && self.skin.covers(centres, radii) {
+            self.skinned = true;
+            self.swept = false;
+            self.reused = false;
+            self.skin.uses += 1;
+            self.skin.misses = 0;
+            return Self::filtered(&self.skin.pairs, centres, radii);
+        }
+        self.skinned = false;
+        if self.skin.held && self.skin.uses == 0 {
+            // Widened for nothing (the shots move too far per call, or others came and
+            // went): wait twice as many calls as last time before widening again.
+            self.skin.misses = (self.skin.misses + 1).min(SKIN_BACKOFF);
+            self.skin.wait = 1 << self.skin.misses;
+        }
+        self.skin.held = false;
+        if !same {
+            self.skin.last_ids.clear();
+            self.skin.last_ids.extend_from_slice(ids);
+        }
+        if !same || self.skin.wait > 0 {
+            self.skin.wait = self.skin.wait.saturating_sub(1);
+            return self.pairs_of(centres, radii, Some(ids));
+        }
+        let mut widened = std::mem::take(&mut self.skin.widened);
+        widened.clear();
+        widened.extend(radii.iter().zip(skin).map(|(r, s)| r + s));
+        self.skin.pairs = self.pairs_of(centres, &widened, Some(ids));
+        self.skin.widened = widened;
+        self.skin.centres.clear();
+        self.skin.centres.extend_from_slice(centres);
+        self.skin.held = true;
+        self.skin.uses = 0;
+        Self::filtered(&self.skin.pairs, centres, radii)
+    }
+
+    /// The pairs of `kept` (sorted) within `radii` at `centres`, by the searches' own
+    /// test: sorted, as a search returns them.
+    fn filtered(kept: &[(u32, u32)], centres: &[Vec3], radii: &[f64]) -> Vec<(u32, u32)> {
+        kept.iter()
+            .copied()
+            .filter(|&(i, j)| {
+                let (i, j) = (i as usize, j as usize);
+                let reach = radii[i] + radii[j];
+                (centres[j] - centres[i]).norm_squared() < reach * reach
+            })
+            .collect()
     }
 
     fn pairs_of(
@@ -597,9 +705,15 @@ mod tests {
         let (mut centres, radii) = stream(&mut rng);
         let mut ids: Vec<usize> = (0..400).collect();
         let mut next = 400;
+        let zeros = vec![0.0; 400];
         let mut cells = CellList::default();
         for call in 0..12 {
-            let got = cells.pairs_tracked(&centres, &radii[..centres.len()], &ids);
+            let got = cells.pairs_tracked(
+                &centres,
+                &radii[..centres.len()],
+                &ids,
+                &zeros[..centres.len()],
+            );
             assert_eq!(got, brute(&centres, &radii[..centres.len()]), "call {call}");
             assert!(cells.swept, "call {call}: swept");
             assert_eq!(cells.reused, call > 0, "call {call}: order reused");
@@ -618,8 +732,85 @@ mod tests {
         for c in centres.iter_mut() {
             c.z = 0.2 - c.z;
         }
-        let got = cells.pairs_tracked(&centres, &radii[..centres.len()], &ids);
+        let got = cells.pairs_tracked(
+            &centres,
+            &radii[..centres.len()],
+            &ids,
+            &zeros[..centres.len()],
+        );
         assert_eq!(got, brute(&centres, &radii[..centres.len()]), "reversed");
         assert!(cells.swept && !cells.reused, "reversed: a full sort");
+    }
+    #[test]
+    fn a_dense_cloud_reuses_its_skin_and_finds_the_same_pairs() {
+        // A compact cloud of shots (0.2 mm radius, reach up to 5 um) drifting by up to a
+        // micrometre per call in random directions, radii changing every call, as a
+        // dense pile's short windows. Each call must find exactly the brute-force pairs,
+        // whether it searched or filtered the skin's; most filter, some search again (a
+        // shot left its widened ball), and a call with other ids always searches. Then
+        // the shots move a diameter per call, as a stream's: no widened search is ever
+        // filtered, and they back off to one in 64 calls.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+        let n = 600;
+        let (mut centres, _) = cloud(
+            &mut rng,
+            n,
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(6e-3, 6e-3, 3e-3),
+            1_000_000,
+        );
+        let mut ids: Vec<usize> = (0..n).collect();
+        let skin = vec![2e-5; n];
+        let mut cells = CellList::default();
+        let (mut skinned, mut searched) = (0, 0);
+        for call in 0..400 {
+            let radii: Vec<f64> = (0..centres.len())
+                .map(|_| 2e-4 + rng.random_range(0.0..5e-6))
+                .collect();
+            let got = cells.pairs_tracked(&centres, &radii, &ids, &skin[..centres.len()]);
+            assert_eq!(got, brute(&centres, &radii), "call {call}");
+            if cells.skinned {
+                skinned += 1;
+            } else {
+                searched += 1;
+            }
+            if call == 200 {
+                // One shot leaves: the next call has other ids and searches.
+                centres.remove(7);
+                ids.remove(7);
+                let got = cells.pairs_tracked(&centres, &radii[1..], &ids, &skin[1..]);
+                assert_eq!(got, brute(&centres, &radii[1..]), "after the change");
+                assert!(!cells.skinned, "a call with other ids searches");
+            }
+            for c in centres.iter_mut() {
+                *c += Vec3::from_fn(|_, _| rng.random_range(-1e-6..1e-6));
+            }
+            // Now and then one shot is kicked half a diameter: into new pairs.
+            if call % 20 == 10 {
+                let k = rng.random_range(0..centres.len());
+                centres[k] += Vec3::from_fn(|_, _| rng.random_range(-2e-4..2e-4));
+            }
+        }
+        assert!(skinned > 300, "skinned {skinned} of 400");
+        assert!(searched > 20, "searched {searched} of 400");
+        let mut widened = 0;
+        for call in 0..400 {
+            let radii = vec![2e-4; centres.len()];
+            let held = cells.skin.held;
+            let got = cells.pairs_tracked(&centres, &radii, &ids, &skin[..centres.len()]);
+            assert_eq!(got, brute(&centres, &radii), "fast call {call}");
+            if !held && cells.skin.held {
+                widened += 1;
+            }
+            for c in centres.iter_mut() {
+                *c += Vec3::from_fn(|_, _| rng.random_range(-4e-4..4e-4));
+            }
+        }
+        assert!(!cells.skinned);
+        // 2 + 4 + ... + 64 calls, then one in 65.
+        assert!(
+            (7..=12).contains(&widened),
+            "widened {widened} times in 400 fast calls"
+        );
     }
 }
