@@ -29,7 +29,8 @@ pub struct WorkCounters {
     pub wall_contact_checks: u64,
     /// Shot-shot pair tests in the narrow phase.
     pub pair_contact_checks: u64,
-    /// Neighbour searches (cell-list builds) for shot-shot contact.
+    /// Neighbour searches (sweeps or cell-list builds) for shot-shot contact; a window
+    /// that only filters the pairs its neighbour-list skin kept does not count.
     pub neighbour_searches: u64,
     /// Jet-region border crossings located.
     pub region_crossings: u64,

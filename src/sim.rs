@@ -1883,9 +1883,11 @@ impl Simulation {
             skin.push(BROAD_SKIN * z.diameter);
             asleep.push(true);
         }
-        self.work.neighbour_searches += 1;
         // Shot ids are their indices and `ids` ascends: the pairs stay sorted.
         let local = self.cells.pairs_tracked(&centres, &inflated, &ids, &skin);
+        if !self.cells.filtered_last() {
+            self.work.neighbour_searches += 1;
+        }
         // Shots with a pair (a lone one among them does not fall asleep after the window:
         // it would wake at once), and the sleepers met.
         let mut met = vec![false; ids.len()];

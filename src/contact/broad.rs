@@ -320,6 +320,11 @@ impl CellList {
         Self::filtered(&self.skin.pairs, centres, radii)
     }
 
+    /// Whether the last tracked call filtered the skin's pairs rather than searching.
+    pub fn filtered_last(&self) -> bool {
+        self.skinned
+    }
+
     /// The pairs of `kept` (sorted) within `radii` at `centres`, by the searches' own
     /// test: sorted, as a search returns them.
     fn filtered(kept: &[(u32, u32)], centres: &[Vec3], radii: &[f64]) -> Vec<(u32, u32)> {
@@ -741,6 +746,7 @@ mod tests {
         assert_eq!(got, brute(&centres, &radii[..centres.len()]), "reversed");
         assert!(cells.swept && !cells.reused, "reversed: a full sort");
     }
+
     #[test]
     fn a_dense_cloud_reuses_its_skin_and_finds_the_same_pairs() {
         // A compact cloud of shots (0.2 mm radius, reach up to 5 um) drifting by up to a
@@ -807,7 +813,7 @@ mod tests {
             }
         }
         assert!(!cells.skinned);
-        // 2 + 4 + ... + 64 calls, then one in 65.
+        // Widened after waits of 2, 4, ..., 64 calls, then once every 65.
         assert!(
             (7..=12).contains(&widened),
             "widened {widened} times in 400 fast calls"
