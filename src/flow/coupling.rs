@@ -157,13 +157,19 @@ pub fn taken(scene: &Scene, effects: &Effects) -> Result<Option<f64>, SceneError
         }
     }
     if hits.iter().any(Option::is_none) {
+        let why = if effects.drag {
+            ""
+        } else {
+            " (drag is off in [effects]: the air does not carry the shots)"
+        };
         return Err(SceneError::Invalid {
             path: scene.path.clone(),
             key: "jet.coupling".into(),
-            message: "a shot flown alone from the feed's place, or down the axis, never \
-                      reaches the specimen within 1 s, so the momentum the shots take cannot \
-                      be measured: use \"one_way\""
-                .into(),
+            message: format!(
+                "a shot flown alone from the feed's place, or down the axis, never reaches \
+                 the specimen within 1 s{why}, so the momentum the shots take cannot be \
+                 measured: use \"one_way\""
+            ),
         });
     }
     // Each lone shot's share of a fed shot's momentum gain (and that over its flight).
