@@ -216,7 +216,8 @@ pub struct CellList {
     reused: bool,
     /// The tracked calls' skin.
     skin: Skin,
-    /// Whether the last call filtered the skin's pairs instead of searching (for tests).
+    /// Whether the last call filtered the skin's pairs instead of searching
+    /// ([`CellList::filtered_last`]: the windows count searches only).
     skinned: bool,
 }
 
