@@ -72,6 +72,9 @@ pub struct WorkCounters {
     /// Windows scheduler: windows that lone shots slept through, per shot (`sim/sleep.rs`:
     /// not looked at, their states read off their kept steps when they wake).
     pub shot_windows_slept: u64,
+    /// Fixed-step method: steps of lone shots away from every contact, taken on their
+    /// body forces alone (`Physics::free_steps`; counted in `shot_steps` too).
+    pub free_steps: u64,
 }
 
 impl WorkCounters {
@@ -103,5 +106,6 @@ impl WorkCounters {
         self.slides += other.slides;
         self.entries_held += other.entries_held;
         self.shot_windows_slept += other.shot_windows_slept;
+        self.free_steps += other.free_steps;
     }
 }

@@ -58,6 +58,7 @@ fn physics(specimen: Option<HertzLaw>, pair: Option<HertzLaw>, gravity: f64) -> 
         method: peenflow::integrate::island::Method::Adaptive,
         sliding: true,
         blocks_min: peenflow::integrate::island::BLOCKS_MIN,
+        free_steps: true,
     }
 }
 

@@ -333,3 +333,55 @@ fn auto_keeps_the_fixed_step_method_on_windows() {
     let sim = Simulation::new(&adaptive, &adaptive.effects()).unwrap();
     assert_eq!(sim.scheduler_in_use(), "events");
 }
+
+/// A lone shot's fixed steps away from every contact take its body forces alone and skip
+/// the contact passes (`Physics::free_steps`, session 67). A box of shots with friction
+/// thrown onto a plate and onto a bar (shots meeting in the air and on the part, spinning,
+/// rebounding alone): the records and every work count but `free_steps` are those of the
+/// run with every step through the full passes, to the bit.
+#[test]
+fn a_lone_shots_free_steps_give_the_full_passes_run_to_the_bit() {
+    let base = "duration_ms = 0.15\ngravity_m_s2 = 9.81\nseed = 3\n[shots]\ndiameter_mm = 0.6\n\
+        [shots.feed]\ntype = \"box\"\ncount = 300\nmin_mm = [-4.0, -4.0, 0.4]\n\
+        max_mm = [4.0, 4.0, 4.0]\nvelocity_m_s = [1.5, -2.0, -30.0]\n\
+        [restitution]\nshot_specimen = 0.8\nshot_shot = 0.6\n\
+        [friction]\nshot_specimen = 0.3\nshot_shot = 0.3\n\
+        [integrator]\nmethod = \"verlet\"\nfixed_step_ns = 20\n\
+        [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
+    let bar = "[specimen]\nshape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n";
+    for (name, text) in [("plate", base.to_string()), ("bar", format!("{base}{bar}"))] {
+        let scene = Scene::from_toml(&text, name).unwrap();
+        let run = |free: bool| {
+            Simulation::new(&scene, &scene.effects())
+                .unwrap()
+                .with_free_steps(free)
+                .run(&|_| {})
+        };
+        let (free, full) = (run(true), run(false));
+        println!(
+            "{name}: {} impacts, {} of {} shot-steps free",
+            free.impacts.len(),
+            free.work.free_steps,
+            free.work.shot_steps
+        );
+        // The run meets every path: impacts, collisions, spin, and free steps in number.
+        assert!(
+            free.impacts.len() > 100,
+            "{name}: {} impacts",
+            free.impacts.len()
+        );
+        assert!(free.work.contact_onsets > free.impacts.len() as u64 + 50);
+        assert!(free.shots.iter().any(|s| s.omega.norm() > 1.0));
+        assert!(
+            free.work.free_steps > free.work.shot_steps / 10,
+            "{name}: {:?}",
+            free.work
+        );
+        assert_eq!(full.work.free_steps, 0);
+        assert_eq!(free.impacts, full.impacts, "{name}");
+        assert_eq!(free.shots, full.shots, "{name}");
+        let mut work = free.work;
+        work.free_steps = 0;
+        assert_eq!(work, full.work, "{name}");
+    }
+}

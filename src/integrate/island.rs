@@ -116,6 +116,11 @@ pub struct Physics {
     /// step-end passes are split over the threads, a block of at least this many per
     /// thread (default [`BLOCKS_MIN`]; the results are the same to the bit either way).
     pub blocks_min: usize,
+    /// Whether a lone shot's fixed steps away from every contact skip the contact passes
+    /// (`advance_verlet`: its forces are the body forces, and the onset, overlap and
+    /// separation passes find nothing) (default `true`; the results are the same to the
+    /// bit either way; `false` for comparisons).
+    pub free_steps: bool,
 }
 
 /// Scale (m/s^2) of a sliding shot's lift-off margin (its load per mass, `-a_z`).
@@ -721,6 +726,42 @@ impl Ctx<'_> {
         for w in &works {
             work.add(w);
         }
+    }
+
+    /// [`Ctx::rhs`] of a lone member away from every contact (no pair, no wall, not
+    /// sliding, not on the specimen and clear of it: [`Ctx::clear_of_contacts`]): its
+    /// body forces, no torque. The same numbers and counts as `rhs`.
+    fn free_rhs(&self, m: &ShotState, y: &[f64], dy: &mut [f64], work: &mut WorkCounters) {
+        work.rhs_evaluations += 1;
+        let (p, v) = (pos(y, 0), vel(y, 0));
+        let a = self
+            .phys
+            .forces
+            .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
+        if self.phys.contacts.specimen.is_some() {
+            work.specimen_contact_checks += 1;
+        }
+        let (lin, ang) = dy.split_at_mut(6);
+        lin.copy_from_slice(&[v.x, v.y, v.z, a.x, a.y, a.z]);
+        // (No spin: nothing; with spin three entries, written without a call to memset.)
+        if let Ok(w) = <&mut [f64; 3]>::try_from(ang) {
+            *w = [0.0; 3];
+        }
+    }
+
+    /// Whether the lone member `m` at `y` (moving) is away from every contact: not
+    /// sliding, not on the specimen and clear of it (its overlap gap above 0: no force,
+    /// no onset, no overlap). The caller has checked that there is no pair, no wall and
+    /// no field (whose regions a step's end would locate).
+    fn clear_of_contacts(&self, m: &ShotState, y: &[f64]) -> bool {
+        !m.sliding
+            && !m.on_specimen
+            && self
+                .phys
+                .contacts
+                .specimen
+                .as_ref()
+                .is_none_or(|sp| sp.overlap_gap(&pos(y, 0), m.body.radius) > 0.0)
     }
 
     /// [`Ctx::rhs`] for the members of `dy` and the pairs `list` (ascending, every pair
@@ -2098,6 +2139,11 @@ impl Ctx<'_> {
             return None;
         }
         self.update_separations(members, pairs, y);
+        Some(self.leave_domain(members, t, y))
+    }
+
+    /// Stops the members whose centre is outside the domain at `(t, y)`; whether any was.
+    fn leave_domain(&self, members: &mut [ShotState], t: f64, y: &[f64]) -> bool {
         let mut left = false;
         for (i, m) in members.iter_mut().enumerate() {
             if m.is_active() && t >= m.t_start && !self.phys.domain.contains(&pos(y, i)) {
@@ -2108,7 +2154,7 @@ impl Ctx<'_> {
                 left = true;
             }
         }
-        Some(left)
+        left
     }
 
     /// Separations: contacts whose overlap ended during the last step.
@@ -3350,9 +3396,27 @@ fn fail_island(
 /// acceleration in `acc`.
 #[inline]
 fn kick_spin(y: &mut [f64], acc: &[f64], n: usize, i: usize, dt: f64) {
-    for k in 6 * n + 3 * i..6 * n + 3 * i + 3 {
-        y[k] += dt * acc[k];
+    let o = 6 * n + 3 * i;
+    add_scaled(&mut y[o..o + 3], &acc[o..o + 3], dt);
+}
+
+/// `y += dt * a`, component by component (`y` and `a` of one length: one bounds check).
+#[inline]
+fn add_scaled(y: &mut [f64], a: &[f64], dt: f64) {
+    for (y, a) in y.iter_mut().zip(a) {
+        *y += dt * a;
     }
+}
+
+/// Whether every entry of `y` is finite, without a branch per entry (a step's state is
+/// checked after every fixed step).
+#[inline]
+fn all_finite(y: &[f64]) -> bool {
+    // An entry is infinite or NaN when its exponent bits are all set.
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    y.iter()
+        .fold(0u64, |bad, v| bad | u64::from(v.to_bits() & EXP == EXP))
+        == 0
 }
 
 /// Where a velocity-Verlet step (length `h`, ending at state `y` with forces `acc`, having
@@ -3547,6 +3611,17 @@ fn advance_verlet(
             }
         }
     }
+    // A lone shot without a field or a wall: its steps away from every contact take its
+    // body forces alone and skip the passes that would find nothing (`Ctx::free_rhs`).
+    // In a pile on windows half the shot-steps are such steps (session 67).
+    let lone = phys.free_steps
+        && n == 1
+        && pairs.is_empty()
+        && !clocks
+        && !entries
+        && !history
+        && phys.forces.field.is_none()
+        && phys.contacts.wall.is_none();
     while t < t1 && members.iter().any(|m| m.is_active()) {
         // (A member's clock ahead ends the step there: its `t_start`, with `clocks`.)
         let stop = if clocks {
@@ -3568,10 +3643,9 @@ fn advance_verlet(
             if !moving(m, t) {
                 continue;
             }
-            for k in 0..3 {
-                y[6 * i + 3 + k] += 0.5 * h * acc[6 * i + 3 + k];
-                y[6 * i + k] += h * y[6 * i + 3 + k];
-            }
+            let (x, v) = y[6 * i..6 * i + 6].split_at_mut(3);
+            add_scaled(v, &acc[6 * i + 3..6 * i + 6], 0.5 * h);
+            add_scaled(x, v, h);
             if spin {
                 kick_spin(y, acc, n, i, 0.5 * h);
             }
@@ -3592,32 +3666,40 @@ fn advance_verlet(
             hold_entries(members, pairs, (t, t_new), y, &mut work);
         }
         t = t_new;
+        let free = lone && moving(&members[0], t) && ctx.clear_of_contacts(&members[0], y);
         set_regions(members, t, y);
         // Forces at the new positions (with the half-step velocities), second kick. (The
         // step's starting forces move to `prev`: `rhs` writes every entry of `acc`.)
         std::mem::swap(acc, prev);
-        forces(
-            &ctx,
-            members,
-            pairs,
-            (t, Some(h)),
-            y,
-            (&mut tangent, acc),
-            &mut work,
-        );
+        if free {
+            work.free_steps += 1;
+            ctx.free_rhs(&members[0], y, acc, &mut work);
+        } else {
+            forces(
+                &ctx,
+                members,
+                pairs,
+                (t, Some(h)),
+                y,
+                (&mut tangent, acc),
+                &mut work,
+            );
+        }
         for (i, m) in members.iter().enumerate() {
             // (A member joining at `t` on its clock took no part of the step.)
             if moving(m, t) && !(clocks && m.t_start == t) {
-                for k in 0..3 {
-                    y[6 * i + 3 + k] += 0.5 * h * acc[6 * i + 3 + k];
-                }
+                add_scaled(
+                    &mut y[6 * i + 3..6 * i + 6],
+                    &acc[6 * i + 3..6 * i + 6],
+                    0.5 * h,
+                );
                 if spin {
                     kick_spin(y, acc, n, i, 0.5 * h);
                 }
             }
         }
         work.steps_accepted += 1;
-        if y.iter().any(|v| !v.is_finite()) {
+        if !all_finite(y) {
             fail_island(
                 members,
                 t,
@@ -3631,7 +3713,9 @@ fn advance_verlet(
         // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them;
         // a specimen impact is recorded where the shot touched, on the step's free path.
         let recorded = out.impacts.len();
-        ctx.apply_events(members, pairs, t, y, out);
+        if !free {
+            ctx.apply_events(members, pairs, t, y, out);
+        }
         for imp in &mut out.impacts[recorded..] {
             if let Some(i) = members.iter().position(|m| m.id.0 == imp.shot) {
                 let shape = &ctx
@@ -3665,7 +3749,10 @@ fn advance_verlet(
             }
         }
         observer(t, y);
-        if ctx
+        if free {
+            // (No overlap to guard, no contact to end.)
+            ctx.leave_domain(members, t, y);
+        } else if ctx
             .end_of_step(members, pairs, t, y, out, "use a smaller fixed step")
             .is_none()
         {
@@ -3692,7 +3779,32 @@ fn advance_verlet(
 
 #[cfg(test)]
 mod tests {
-    use super::first_crossing_guided;
+    use super::{all_finite, first_crossing_guided};
+
+    /// The exponent test agrees with `f64::is_finite` on the edge cases of the format.
+    #[test]
+    fn all_finite_is_is_finite_on_every_entry() {
+        let finite = [
+            0.0,
+            -0.0,
+            1.0,
+            -3.5e-300,
+            f64::MIN_POSITIVE / 8.0, // subnormal
+            f64::MAX,
+            f64::MIN,
+        ];
+        let not = [f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+        assert!(all_finite(&finite));
+        assert!(all_finite(&[]));
+        for bad in not {
+            for k in 0..=finite.len() {
+                let mut y = finite.to_vec();
+                y.insert(k, bad);
+                assert!(!all_finite(&y), "{bad} at {k}");
+                assert_eq!(all_finite(&y), y.iter().all(|v| v.is_finite()));
+            }
+        }
+    }
 
     /// Runs the guided search on margin `g` with estimate `guess` over `[0, 1]`:
     /// (end, held, evaluations of `g`, `g` at the end).

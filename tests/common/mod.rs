@@ -117,6 +117,7 @@ pub fn contact_physics(specimen_e: Option<f64>, pair_e: Option<f64>) -> Physics 
         method: peenflow::integrate::island::Method::Adaptive,
         sliding: true,
         blocks_min: peenflow::integrate::island::BLOCKS_MIN,
+        free_steps: true,
     }
 }
 
