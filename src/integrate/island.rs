@@ -728,32 +728,11 @@ impl Ctx<'_> {
         }
     }
 
-    /// [`Ctx::rhs`] of a lone member away from every contact (no pair, no wall, not
-    /// sliding, not on the specimen and clear of it: [`Ctx::clear_of_contacts`]): its
-    /// body forces, no torque. The same numbers and counts as `rhs`.
-    fn free_rhs(&self, m: &ShotState, y: &[f64], dy: &mut [f64], work: &mut WorkCounters) {
-        work.rhs_evaluations += 1;
-        let (p, v) = (pos(y, 0), vel(y, 0));
-        let a = self
-            .phys
-            .forces
-            .acceleration(&m.body, &p, &v, m.region, &m.gust, work);
-        if self.phys.contacts.specimen.is_some() {
-            work.specimen_contact_checks += 1;
-        }
-        let (lin, ang) = dy.split_at_mut(6);
-        lin.copy_from_slice(&[v.x, v.y, v.z, a.x, a.y, a.z]);
-        // (No spin: nothing; with spin three entries, written without a call to memset.)
-        if let Ok(w) = <&mut [f64; 3]>::try_from(ang) {
-            *w = [0.0; 3];
-        }
-    }
-
-    /// Whether the lone member `m` at `y` (moving) is away from every contact: not
+    /// Whether the lone member `m` at `p` (moving) is away from every contact: not
     /// sliding, not on the specimen and clear of it (its overlap gap above 0: no force,
     /// no onset, no overlap). The caller has checked that there is no pair, no wall and
     /// no field (whose regions a step's end would locate).
-    fn clear_of_contacts(&self, m: &ShotState, y: &[f64]) -> bool {
+    fn clear_of_contacts(&self, m: &ShotState, p: &Vec3) -> bool {
         !m.sliding
             && !m.on_specimen
             && self
@@ -761,7 +740,105 @@ impl Ctx<'_> {
                 .contacts
                 .specimen
                 .as_ref()
-                .is_none_or(|sp| sp.overlap_gap(&pos(y, 0), m.body.radius) > 0.0)
+                .is_none_or(|sp| sp.overlap_gap(p, m.body.radius) > 0.0)
+    }
+
+    /// The free steps of a lone member `m` (the `lone` case of [`advance_verlet`]) from
+    /// `*t`, one after another while each ends clear of contacts
+    /// ([`Ctx::clear_of_contacts`]): the general step's arithmetic and counts to the bit,
+    /// without its passes over members and pairs. Stops before a step that would not end
+    /// clear (the caller takes it), at `t1`, or when the shot stops. Returns whether the
+    /// caller's step loop ends: the state stopped being finite (the island failed), or
+    /// `apart_after` was reached (no contact is in progress in a free step).
+    ///
+    /// The state is carried in locals and only written to `y` (and the forces to `acc`),
+    /// never read back within a step: reading an entry just written as part of a wider
+    /// load stalls the processor's store forwarding, and that was most of such a step's
+    /// time when it ran through `y` (session 68).
+    #[allow(clippy::too_many_arguments)]
+    fn free_steps(
+        &self,
+        m: &mut ShotState,
+        (t, t1, step, apart_after): (&mut f64, f64, f64, Option<f64>),
+        spin: bool,
+        (y, acc, prev): (&mut [f64], &mut Vec<f64>, &mut Vec<f64>),
+        out: &mut IslandOutput,
+        work: &mut WorkCounters,
+        observer: &mut dyn FnMut(f64, &[f64]),
+    ) -> bool {
+        let (mut x, mut v, mut a) = (pos(y, 0), vel(y, 0), vel(acc, 0));
+        let (mut w, mut alpha) = if spin {
+            (omega(y, 1, 0), omega(acc, 1, 0))
+        } else {
+            (Vec3::zeros(), Vec3::zeros())
+        };
+        let specimen = self.phys.contacts.specimen.is_some();
+        while *t < t1 && moving(m, *t) {
+            let h = if t1 - *t <= step * (1.0 + 1e-9) {
+                t1 - *t
+            } else {
+                step
+            };
+            // Kick and drift, tried aside: kept only if the step ends clear.
+            let half = 0.5 * h;
+            let v_half = kicked(&v, &a, half);
+            let x_new = kicked(&x, &v_half, h);
+            let t_new = if h == t1 - *t { t1 } else { *t + h };
+            if !(moving(m, t_new) && self.clear_of_contacts(m, &x_new)) {
+                return false;
+            }
+            (x, v) = (x_new, v_half);
+            if spin {
+                w = kicked(&w, &alpha, half);
+            }
+            // (A free step is not on the specimen: no first contact's step to count.)
+            m.steps += 1;
+            work.shot_steps += 1;
+            *t = t_new;
+            // The forces at the step's end, `Ctx::rhs`'s numbers and counts where there is
+            // no contact: body forces, no torque. The step's starting forces move to `prev`.
+            work.free_steps += 1;
+            work.rhs_evaluations += 1;
+            a = self
+                .phys
+                .forces
+                .acceleration(&m.body, &x, &v, m.region, &m.gust, work);
+            if specimen {
+                work.specimen_contact_checks += 1;
+            }
+            std::mem::swap(acc, prev);
+            acc[..6].copy_from_slice(&[v.x, v.y, v.z, a.x, a.y, a.z]);
+            v = kicked(&v, &a, half);
+            y[..6].copy_from_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
+            if spin {
+                alpha = Vec3::zeros();
+                acc[6..9].copy_from_slice(&[0.0; 3]);
+                w = kicked(&w, &alpha, half);
+                y[6..9].copy_from_slice(w.as_slice());
+            }
+            work.steps_accepted += 1;
+            let state = [x.x, x.y, x.z, v.x, v.y, v.z, w.x, w.y, w.z];
+            if !all_finite(&state) {
+                fail_island(
+                    std::slice::from_mut(m),
+                    *t,
+                    y,
+                    out,
+                    "the state stopped being finite",
+                    "use a smaller fixed step",
+                );
+                return true;
+            }
+            observer(*t, y);
+            // (No overlap to guard, no contact to end.)
+            if !self.phys.domain.contains(&x) {
+                self.leave_domain(std::slice::from_mut(m), *t, y);
+            }
+            if apart_after.is_some_and(|ta| *t >= ta) {
+                return true;
+            }
+        }
+        false
     }
 
     /// [`Ctx::rhs`] for the members of `dy` and the pairs `list` (ascending, every pair
@@ -3400,6 +3477,12 @@ fn kick_spin(y: &mut [f64], acc: &[f64], n: usize, i: usize, dt: f64) {
     add_scaled(&mut y[o..o + 3], &acc[o..o + 3], dt);
 }
 
+/// `y + dt * a`, component by component, as [`add_scaled`] computes it.
+#[inline]
+fn kicked(y: &Vec3, a: &Vec3, dt: f64) -> Vec3 {
+    Vec3::new(y.x + dt * a.x, y.y + dt * a.y, y.z + dt * a.z)
+}
+
 /// `y += dt * a`, component by component (`y` and `a` of one length: one bounds check).
 #[inline]
 fn add_scaled(y: &mut [f64], a: &[f64], dt: f64) {
@@ -3612,7 +3695,7 @@ fn advance_verlet(
         }
     }
     // A lone shot without a field or a wall: its steps away from every contact take its
-    // body forces alone and skip the passes that would find nothing (`Ctx::free_rhs`).
+    // body forces alone and skip the passes that would find nothing (`Ctx::free_steps`).
     // In a pile on windows half the shot-steps are such steps (session 67).
     let lone = phys.free_steps
         && n == 1
@@ -3623,6 +3706,18 @@ fn advance_verlet(
         && phys.forces.field.is_none()
         && phys.contacts.wall.is_none();
     while t < t1 && members.iter().any(|m| m.is_active()) {
+        if lone {
+            let span = (&mut t, t1, step, apart_after);
+            let state = (&mut y[..], &mut *acc, &mut *prev);
+            let spun = spin;
+            if ctx.free_steps(&mut members[0], span, spun, state, out, &mut work, observer) {
+                break;
+            }
+            if t >= t1 || !members[0].is_active() {
+                break;
+            }
+            // The next step ends in reach of a contact: the general step below.
+        }
         // (A member's clock ahead ends the step there: its `t_start`, with `clocks`.)
         let stop = if clocks {
             members
@@ -3666,25 +3761,19 @@ fn advance_verlet(
             hold_entries(members, pairs, (t, t_new), y, &mut work);
         }
         t = t_new;
-        let free = lone && moving(&members[0], t) && ctx.clear_of_contacts(&members[0], y);
         set_regions(members, t, y);
         // Forces at the new positions (with the half-step velocities), second kick. (The
         // step's starting forces move to `prev`: `rhs` writes every entry of `acc`.)
         std::mem::swap(acc, prev);
-        if free {
-            work.free_steps += 1;
-            ctx.free_rhs(&members[0], y, acc, &mut work);
-        } else {
-            forces(
-                &ctx,
-                members,
-                pairs,
-                (t, Some(h)),
-                y,
-                (&mut tangent, acc),
-                &mut work,
-            );
-        }
+        forces(
+            &ctx,
+            members,
+            pairs,
+            (t, Some(h)),
+            y,
+            (&mut tangent, acc),
+            &mut work,
+        );
         for (i, m) in members.iter().enumerate() {
             // (A member joining at `t` on its clock took no part of the step.)
             if moving(m, t) && !(clocks && m.t_start == t) {
@@ -3713,9 +3802,7 @@ fn advance_verlet(
         // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them;
         // a specimen impact is recorded where the shot touched, on the step's free path.
         let recorded = out.impacts.len();
-        if !free {
-            ctx.apply_events(members, pairs, t, y, out);
-        }
+        ctx.apply_events(members, pairs, t, y, out);
         for imp in &mut out.impacts[recorded..] {
             if let Some(i) = members.iter().position(|m| m.id.0 == imp.shot) {
                 let shape = &ctx
@@ -3749,10 +3836,7 @@ fn advance_verlet(
             }
         }
         observer(t, y);
-        if free {
-            // (No overlap to guard, no contact to end.)
-            ctx.leave_domain(members, t, y);
-        } else if ctx
+        if ctx
             .end_of_step(members, pairs, t, y, out, "use a smaller fixed step")
             .is_none()
         {
