@@ -59,7 +59,7 @@ impl ForceSet {
     /// Acceleration (m/s^2) of `body` at `pos`, `vel`, with the jet region frozen to
     /// `region`; `gust` is the turbulent fluctuation the shot sees (zero without the
     /// effect), added to the air velocity in drag.
-    #[inline]
+    #[inline(always)]
     pub fn acceleration(
         &self,
         body: &ShotBody,
@@ -69,8 +69,32 @@ impl ForceSet {
         gust: &Vec3,
         work: &mut WorkCounters,
     ) -> Vec3 {
-        let mut acc = Vec3::zeros();
-        if let Some(field) = &self.field {
+        let mut acc = match &self.field {
+            Some(field) => self.air_acceleration(field, body, pos, vel, region, gust, work),
+            None => Vec3::zeros(),
+        };
+        if let Some(g) = &self.gravity {
+            work.gravity_calls += 1;
+            acc += g.acceleration;
+        }
+        acc
+    }
+
+    /// The air's part of [`ForceSet::acceleration`]: drag and the lateral force (kept out
+    /// of line, so that the body forces of a scene without air are inlined).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn air_acceleration(
+        &self,
+        field: &JetField,
+        body: &ShotBody,
+        pos: &Vec3,
+        vel: &Vec3,
+        region: Region,
+        gust: &Vec3,
+        work: &mut WorkCounters,
+    ) -> Vec3 {
+        {
             let mut force = Vec3::zeros();
             work.flow_samples += 1;
             let flow = field.sample(pos, region);
@@ -98,13 +122,8 @@ impl ForceSet {
                 };
                 force += lateral.force(body.mass, &flow, region, &field.axis, drag);
             }
-            acc = force / body.mass;
+            force / body.mass
         }
-        if let Some(g) = &self.gravity {
-            work.gravity_calls += 1;
-            acc += g.acceleration;
-        }
-        acc
     }
 
     /// Upper bound of the body-force acceleration (m/s^2) on `body` moving at most at
