@@ -94,36 +94,34 @@ impl ForceSet {
         gust: &Vec3,
         work: &mut WorkCounters,
     ) -> Vec3 {
-        {
-            let mut force = Vec3::zeros();
-            work.flow_samples += 1;
-            let flow = field.sample(pos, region);
-            let area = body.area();
-            // The lateral force is driven by the mean flow's drag: computed once when the
-            // drag effect has it (no gust), by the lateral force otherwise.
-            let mut mean_drag = None;
-            if let Some(drag) = &self.drag {
-                work.drag_calls += 1;
-                let f = if self.turbulence.is_some() && Turbulence::turbulent(region) {
-                    drag.force(area, flow.density, &(flow.velocity + gust), vel)
-                } else {
-                    let f = drag.force(area, flow.density, &flow.velocity, vel);
-                    mean_drag = Some(f);
-                    f
-                };
-                force += f;
-            }
-            if let Some(lateral) = &self.lateral {
-                work.lateral_force_calls += 1;
-                let drag = || {
-                    mean_drag.unwrap_or_else(|| {
-                        (lateral.drag).force(area, flow.density, &flow.velocity, vel)
-                    })
-                };
-                force += lateral.force(body.mass, &flow, region, &field.axis, drag);
-            }
-            force / body.mass
+        let mut force = Vec3::zeros();
+        work.flow_samples += 1;
+        let flow = field.sample(pos, region);
+        let area = body.area();
+        // The lateral force is driven by the mean flow's drag: computed once when the
+        // drag effect has it (no gust), by the lateral force otherwise.
+        let mut mean_drag = None;
+        if let Some(drag) = &self.drag {
+            work.drag_calls += 1;
+            let f = if self.turbulence.is_some() && Turbulence::turbulent(region) {
+                drag.force(area, flow.density, &(flow.velocity + gust), vel)
+            } else {
+                let f = drag.force(area, flow.density, &flow.velocity, vel);
+                mean_drag = Some(f);
+                f
+            };
+            force += f;
         }
+        if let Some(lateral) = &self.lateral {
+            work.lateral_force_calls += 1;
+            let drag = || {
+                mean_drag.unwrap_or_else(|| {
+                    (lateral.drag).force(area, flow.density, &flow.velocity, vel)
+                })
+            };
+            force += lateral.force(body.mass, &flow, region, &field.axis, drag);
+        }
+        force / body.mass
     }
 
     /// Upper bound of the body-force acceleration (m/s^2) on `body` moving at most at

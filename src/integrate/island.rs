@@ -811,6 +811,8 @@ impl Ctx<'_> {
             v = kicked(&v, &a, half);
             y[..6].copy_from_slice(&[x.x, x.y, x.z, v.x, v.y, v.z]);
             if spin {
+                // No torque; the kick by it is still made, as the general step makes it
+                // (it turns a spin component of -0 into +0).
                 alpha = Vec3::zeros();
                 acc[6..9].copy_from_slice(&[0.0; 3]);
                 w = kicked(&w, &alpha, half);
@@ -3709,8 +3711,7 @@ fn advance_verlet(
         if lone {
             let span = (&mut t, t1, step, apart_after);
             let state = (&mut y[..], &mut *acc, &mut *prev);
-            let spun = spin;
-            if ctx.free_steps(&mut members[0], span, spun, state, out, &mut work, observer) {
+            if ctx.free_steps(&mut members[0], span, spin, state, out, &mut work, observer) {
                 break;
             }
             if t >= t1 || !members[0].is_active() {
