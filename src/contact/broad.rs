@@ -27,7 +27,12 @@
 //! larger radius, which searches the 27 cells around it; the largest tenth search a
 //! second, coarse grid (cell: twice the largest radius) instead. A grid is a dense array
 //! of cells (counting sort) when the items' bounding box holds few enough cells, else a
-//! hash map of the occupied ones.
+//! hash map of the occupied ones. Either way it keeps its items in cell order with their
+//! centres and radii alongside, and the search runs through the items in that order: the
+//! cells an item visits are read from contiguous memory (in a dense grid a column of
+//! cells along `z` is one range), and the items searched one after another share them
+//! (a 3,000-shot pile on the fixed-step method: 8 % faster than gathering each
+//! neighbour's centre and radius by its index, session 69).
 
 use crate::Vec3;
 use rustc_hash::FxHashMap;
@@ -36,18 +41,25 @@ type Cell = (i64, i64, i64);
 
 /// Items binned by cell: a dense array of cells when the items' bounding box holds
 /// few enough cells (a counting sort, no hashing), else a hash map of occupied cells.
+/// Either way the items are kept in cell order with their centres and radii packed
+/// alongside (`packed`), so that a search reads the cells it visits from contiguous
+/// memory rather than gathering each item's centre and radius from wherever it sits.
 #[derive(Debug, Default, Clone)]
 struct Bins {
     cell: f64,
-    /// Dense: lowest cell, cells per axis; `starts[c]..starts[c + 1]` into `items`.
+    /// Dense: lowest cell, cells per axis; `starts[c]..starts[c + 1]` into `items`
+    /// (`z` fastest, so a column of cells along `z` is one range).
     lo: Cell,
     dims: (i64, i64, i64),
     dense: bool,
     starts: Vec<u32>,
+    /// The items in cell order, and each one's centre and radius.
     items: Vec<u32>,
-    /// Hashed: `(cell, item)` sorted, and each occupied cell's range in it.
-    order: Vec<(Cell, u32)>,
+    packed: Vec<[f64; 4]>,
+    /// Hashed: each occupied cell's range in `items`.
     ranges: FxHashMap<Cell, (u32, u32)>,
+    /// Hashed: `(cell, item)`, sorted (scratch).
+    order: Vec<(Cell, u32)>,
 }
 
 impl Bins {
@@ -60,7 +72,7 @@ impl Bins {
         )
     }
 
-    fn build(&mut self, centres: &[Vec3], cell: f64) {
+    fn build(&mut self, centres: &[Vec3], radii: &[f64], cell: f64) {
         self.cell = cell;
         let n = centres.len();
         let (mut lo, mut hi) = (
@@ -75,6 +87,7 @@ impl Bins {
         let dims = (hi.0 - lo.0 + 1, hi.1 - lo.1 + 1, hi.2 - lo.2 + 1);
         let total = (dims.0 as f64) * (dims.1 as f64) * (dims.2 as f64);
         self.dense = total <= (8.0 * n as f64).max(65_536.0) && total <= 16_777_216.0;
+        self.items.clear();
         if self.dense {
             self.lo = lo;
             self.dims = dims;
@@ -91,7 +104,6 @@ impl Bins {
             for c in 0..total {
                 self.starts[c + 1] += self.starts[c];
             }
-            self.items.clear();
             self.items.resize(n, 0);
             let mut fill = self.starts.clone();
             for (i, p) in centres.iter().enumerate() {
@@ -114,30 +126,46 @@ impl Bins {
                     start = k;
                 }
             }
+            self.items.extend(self.order.iter().map(|&(_, i)| i));
         }
+        self.packed.clear();
+        self.packed.extend(self.items.iter().map(|&i| {
+            let (p, r) = (&centres[i as usize], radii[i as usize]);
+            [p.x, p.y, p.z, r]
+        }));
     }
 
-    /// Calls `f(j)` for every item in cell `c`.
+    /// Calls `f` with the items (indices, and centres and radii packed alike) of the
+    /// cells `(x, y, z)`, `z` in `z_lo..=z_hi`: one slice for the whole column where
+    /// the cells are dense, one per occupied cell where they are hashed.
     #[inline]
-    fn each(&self, c: Cell, f: &mut impl FnMut(usize)) {
+    fn column(
+        &self,
+        (x, y): (i64, i64),
+        (z_lo, z_hi): (i64, i64),
+        f: &mut impl FnMut(&[u32], &[[f64; 4]]),
+    ) {
         if self.dense {
-            let r = (c.0 - self.lo.0, c.1 - self.lo.1, c.2 - self.lo.2);
-            if r.0 < 0
-                || r.1 < 0
-                || r.2 < 0
-                || r.0 >= self.dims.0
-                || r.1 >= self.dims.1
-                || r.2 >= self.dims.2
-            {
+            let r = (x - self.lo.0, y - self.lo.1);
+            let (za, zb) = (
+                (z_lo - self.lo.2).max(0),
+                (z_hi - self.lo.2).min(self.dims.2 - 1),
+            );
+            if r.0 < 0 || r.1 < 0 || r.0 >= self.dims.0 || r.1 >= self.dims.1 || za > zb {
                 return;
             }
-            let k = ((r.0 * self.dims.1 + r.1) * self.dims.2 + r.2) as usize;
-            for &j in &self.items[self.starts[k] as usize..self.starts[k + 1] as usize] {
-                f(j as usize);
-            }
-        } else if let Some(&(a, b)) = self.ranges.get(&c) {
-            for &(_, j) in &self.order[a as usize..b as usize] {
-                f(j as usize);
+            let k = ((r.0 * self.dims.1 + r.1) * self.dims.2) as usize;
+            let (a, b) = (
+                self.starts[k + za as usize] as usize,
+                self.starts[k + zb as usize + 1] as usize,
+            );
+            f(&self.items[a..b], &self.packed[a..b]);
+        } else {
+            for z in z_lo..=z_hi {
+                if let Some(&(a, b)) = self.ranges.get(&(x, y, z)) {
+                    let (a, b) = (a as usize, b as usize);
+                    f(&self.items[a..b], &self.packed[a..b]);
+                }
             }
         }
     }
@@ -508,40 +536,55 @@ impl CellList {
         let cell = 2.0 * r_small;
         let big = |r: f64| r > r_small;
         let r_big = sorted_r.iter().rev().cloned().find(|&r| big(r));
-        self.fine.build(centres, cell);
-        let scan = |bins: &Bins, i: usize, reach: i64, out: &mut Vec<(u32, u32)>| {
-            let p = &centres[i];
-            let ri = radii[i];
-            let (cx, cy, cz) = bins.key(p);
-            for dx in -reach..=reach {
-                for dy in -reach..=reach {
-                    for dz in -reach..=reach {
-                        bins.each((cx + dx, cy + dy, cz + dz), &mut |j| {
-                            let rj = radii[j];
-                            // The larger radius finds the pair (ties: the lower index).
-                            if rj > ri || (rj == ri && j <= i) {
-                                return;
-                            }
-                            let reach = ri + rj;
-                            if (centres[j] - p).norm_squared() < reach * reach {
-                                out.push((i.min(j) as u32, i.max(j) as u32));
-                            }
-                        });
+        self.fine.build(centres, radii, cell);
+        // Item `i` at `p` with radius `ri` finds its pairs in the columns of cells
+        // within `reach` cells around it.
+        let scan =
+            |bins: &Bins, (i, p, ri): (usize, Vec3, f64), reach: i64, out: &mut Vec<(u32, u32)>| {
+                let (cx, cy, cz) = bins.key(&p);
+                for dx in -reach..=reach {
+                    for dy in -reach..=reach {
+                        bins.column(
+                            (cx + dx, cy + dy),
+                            (cz - reach, cz + reach),
+                            &mut |js, pk| {
+                                for (&j, q) in js.iter().zip(pk) {
+                                    let (j, rj) = (j as usize, q[3]);
+                                    // The larger radius finds the pair (ties: the lower index).
+                                    if rj > ri || (rj == ri && j <= i) {
+                                        continue;
+                                    }
+                                    let reach = ri + rj;
+                                    if (Vec3::new(q[0], q[1], q[2]) - p).norm_squared()
+                                        < reach * reach
+                                    {
+                                        out.push((i.min(j) as u32, i.max(j) as u32));
+                                    }
+                                }
+                            },
+                        );
                     }
                 }
-            }
-        };
-        for (i, &r) in radii.iter().enumerate() {
+            };
+        // (In cell order: neighbours searched one after another share their cells.)
+        let fine = &self.fine;
+        for (&i, q) in fine.items.iter().zip(&fine.packed) {
+            let r = q[3];
             if !big(r) {
                 let reach = (2.0 * r / cell).ceil() as i64;
-                scan(&self.fine, i, reach, out);
+                scan(
+                    fine,
+                    (i as usize, Vec3::new(q[0], q[1], q[2]), r),
+                    reach,
+                    out,
+                );
             }
         }
         if let Some(r_big) = r_big {
-            self.coarse.build(centres, 2.0 * r_big);
+            self.coarse.build(centres, radii, 2.0 * r_big);
             for (i, &r) in radii.iter().enumerate() {
                 if big(r) {
-                    scan(&self.coarse, i, 1, out);
+                    scan(&self.coarse, (i, centres[i], r), 1, out);
                 }
             }
         }
