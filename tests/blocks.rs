@@ -71,3 +71,23 @@ fn a_colliding_stream_is_the_same_on_one_two_and_three_threads() {
     let one = same_runs(&scene);
     assert!(one.impacts.len() > 300, "{} impacts", one.impacts.len());
 }
+
+/// A column of 120 shots thrown onto the specimen on the fixed-step method, rebounds
+/// meeting the shots still coming, friction on: contacts start and end at step ends,
+/// and on more threads the forces, the overlap guard and the separations run in
+/// blocks.
+#[test]
+fn a_fixed_step_pile_is_the_same_on_one_two_and_three_threads() {
+    let text = "title = \"pile\"\nseed = 7\nduration_ms = 0.3\n[shots]\ndiameter_mm = 0.717\n\
+        [shots.feed]\ntype = \"box\"\ncount = 120\nmin_mm = [0.0, 0.0, 0.4]\n\
+        max_mm = [4.0, 4.0, 10.0]\nvelocity_m_s = [0.0, 0.0, -40.0]\n\
+        [restitution]\nshot_specimen = 1.0\nshot_shot = 0.5\n\
+        [friction]\nshot_specimen = 0.0\nshot_shot = 0.3\n\
+        [integrator]\nmethod = \"verlet\"\nfixed_step_ns = 20\n\
+        [effects]\ndrag = false\nlateral_force = false\ngravity = true\n\
+        specimen_contact = true\nshot_shot_contact = true\nnozzle_wall_contact = false\n";
+    let scene = Scene::from_toml(text, "pile.toml").unwrap();
+    let one = same_runs(&scene);
+    assert!(one.impacts.len() > 100, "{} impacts", one.impacts.len());
+    assert!(one.work.contact_onsets > 200, "{:?}", one.work);
+}
