@@ -48,6 +48,53 @@ BIN = os.path.join(ROOT, "target", "release", "peenflow")
 SCENES = os.path.join(ROOT, "bench", "scenes")
 
 
+def options(doc, flags=(), valued=()):
+    """The script's options (`sys.argv[1:]`), checked against its usage: prints `doc` on
+    -h or --help; exits with status 2 and one line naming the option for anything but
+    `flags` (no value) and `valued` (one value each, which must be present)."""
+    argv = sys.argv[1:]
+    if "-h" in argv or "--help" in argv:
+        print(doc.strip())
+        sys.exit(0)
+    lines = doc.splitlines()
+    first = next((k for k, line in enumerate(lines) if line.startswith("usage:")), len(lines))
+    usage = lines[first:first + 1]
+    for line in lines[first + 1:]:
+        if not line.strip().startswith("["):
+            break
+        usage.append(line)
+    # (A usage line may end with a note in parentheses after a few spaces.)
+    usage = " ".join(line.split("   (")[0].strip() for line in usage)
+    i = 0
+    while i < len(argv):
+        if argv[i] in valued and i + 1 < len(argv):
+            i += 2
+        elif argv[i] in flags:
+            i += 1
+        else:
+            what = "needs a value" if argv[i] in valued else "is not an option of this script"
+            usage_error(f"{argv[i]} {what}; {usage} (--help says more)")
+    return argv
+
+
+def usage_error(message):
+    """Exits with status 2 after one line on standard error (a bad option or value)."""
+    print(message, file=sys.stderr)
+    sys.exit(2)
+
+
+def option_value(argv, name, kind, default):
+    """The value of option `name` in `argv` as `kind` (int, float), or `default`; exits
+    with status 2 and one line naming the option if it does not parse."""
+    if name not in argv:
+        return default
+    text = argv[argv.index(name) + 1]
+    try:
+        return kind(text)
+    except ValueError:
+        usage_error(f"{name} {text}: not a number ({kind.__name__})")
+
+
 def run(cmd, cwd):
     """Runs cmd, returns (exit status, max RSS in MB, wall seconds of the process)."""
     import time
@@ -460,12 +507,11 @@ def liggghts_pile(tmp):
 
 
 def main():
-    argv = sys.argv[1:]
+    argv = options(__doc__, ("--quick", "--liggghts", "--liggghts-scale", "--liggghts-feed",
+                             "--liggghts-pile", "--effects"), ("--check-matched",))
     check = None
     if "--check-matched" in argv:
         i = argv.index("--check-matched")
-        if i + 1 >= len(argv):
-            sys.exit("--check-matched needs the [integrator] keys, e.g. 'tolerance = 1e-4; contact_steps = 10'")
         check = "[integrator]\n" + "".join(k.strip() + "\n" for k in argv[i + 1].split(";"))
         del argv[i:i + 2]
     args = set(argv)

@@ -27,7 +27,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench import BIN, SCENES, run  # noqa: E402
+from bench import BIN, SCENES, option_value, options, run, usage_error  # noqa: E402
 
 RADIUS = 0.4e-3  # the stream's shots, m
 
@@ -76,9 +76,11 @@ def outcome(out):
 
 
 def main():
-    argv = sys.argv[1:]
-    seeds = int(argv[argv.index("--seeds") + 1]) if "--seeds" in argv else 4
-    ms = float(argv[argv.index("--ms") + 1]) if "--ms" in argv else 30.0
+    argv = options(__doc__, valued=("--seeds", "--ms"))
+    seeds = option_value(argv, "--seeds", int, 4)
+    ms = option_value(argv, "--ms", float, 30.0)
+    if seeds < 1 or not ms > 5.0:
+        usage_error("--seeds must be at least 1 and --ms above 5 (the stream is fed for T - 5 ms)")
     results = {name: [] for name, _ in METHODS}
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, seeds + 1):

@@ -43,7 +43,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench import BIN, ROOT, SCENES, liggghts_inputs, run  # noqa: E402
+from bench import (  # noqa: E402
+    BIN, ROOT, SCENES, liggghts_inputs, option_value, options, run, usage_error)
 
 DT_NS = 20  # stream.in's step, ns
 DUMP_EVERY = 2500  # LIGGGHTS steps between dumps: 50, 100, 150 us; plus the end
@@ -348,12 +349,10 @@ def peenflow_codes(mu):
 
 
 def main():
-    argv = sys.argv[1:]
-    seeds = 4
-    if "--seeds" in argv:
-        seeds = int(argv[argv.index("--seeds") + 1])
+    argv = options(__doc__, valued=("--seeds",))
+    seeds = option_value(argv, "--seeds", int, 4)
     if not 2 <= seeds <= len(LIGGGHTS_SEEDS):
-        sys.exit(f"--seeds must be 2 to {len(LIGGGHTS_SEEDS)}")
+        usage_error(f"--seeds must be 2 to {len(LIGGGHTS_SEEDS)}")
     subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
     steps = [DUMP_EVERY * k for k in range(1, END_STEP // DUMP_EVERY + 1)] + [END_STEP]
     scene = open(os.path.join(SCENES, "pack_stream_10k.toml")).read()

@@ -21,6 +21,11 @@ Printed: the rebound speed's error at 25 to 400 steps per contact (peenflow's 20
 about 50 on these shots), and the observed orders.
 """
 import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench import options  # noqa: E402
 
 ZETA_M14 = -0.32045126422857734  # zeta(-1/4)
 T_CONTACT = 3.2  # about the dimensionless contact time
@@ -59,6 +64,7 @@ def alpha_for(e):
 
 
 def main():
+    options(__doc__)
     steps = [25, 50, 100, 200, 400]
     print("steps per contact:", " ".join(f"{n:>8}" for n in steps))
     for e in (0.7, 0.9):
