@@ -866,9 +866,13 @@ impl Ctx<'_> {
         let Part { lo, hi, lin, ang } = dy;
         ang.fill(0.0);
         let owns = |i: usize| ALL || (lo..hi).contains(&i);
+        // Whether every member moves (known after the members' pass when it covers them
+        // all): the pairs' pass then need not ask, member by member.
+        let mut all_moving = ALL;
         for i in lo..hi {
             let m = &members[i];
             if !moving(m, t) {
+                all_moving = false;
                 lin[6 * (i - lo)..6 * (i - lo) + 6].fill(0.0);
                 continue;
             }
@@ -987,7 +991,7 @@ impl Ctx<'_> {
             for q in list {
                 let pr = &pairs[q];
                 let (i, j) = (pr.a as usize, pr.b as usize);
-                if !moving(&members[i], t) || !moving(&members[j], t) {
+                if !all_moving && (!moving(&members[i], t) || !moving(&members[j], t)) {
                     continue;
                 }
                 let (own_i, own_j) = (owns(i), owns(j));
