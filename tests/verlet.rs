@@ -334,6 +334,33 @@ fn auto_keeps_the_fixed_step_method_on_windows() {
     assert_eq!(sim.scheduler_in_use(), "events");
 }
 
+/// Runs `text` with a lone shot's free steps (`Physics::free_steps`) and with every step
+/// through the full passes, checks that the records and every work count but
+/// `free_steps` are the same to the bit, and returns the run with free steps.
+fn free_steps_match_full_passes(name: &str, text: &str) -> peenflow::sim::RunOutput {
+    let scene = Scene::from_toml(text, name).unwrap();
+    let run = |free: bool| {
+        Simulation::new(&scene, &scene.effects())
+            .unwrap()
+            .with_free_steps(free)
+            .run(&|_| {})
+    };
+    let (free, full) = (run(true), run(false));
+    println!(
+        "{name}: {} impacts, {} of {} shot-steps free",
+        free.impacts.len(),
+        free.work.free_steps,
+        free.work.shot_steps
+    );
+    assert_eq!(full.work.free_steps, 0);
+    assert_eq!(free.impacts, full.impacts, "{name}");
+    assert_eq!(free.shots, full.shots, "{name}");
+    let mut work = free.work;
+    work.free_steps = 0;
+    assert_eq!(work, full.work, "{name}");
+    free
+}
+
 /// A lone shot's fixed steps away from every contact take its body forces alone and skip
 /// the contact passes (`Physics::free_steps`, session 67). A box of shots with friction
 /// thrown onto a plate and onto a bar (shots meeting in the air and on the part, spinning,
@@ -350,20 +377,7 @@ fn a_lone_shots_free_steps_give_the_full_passes_run_to_the_bit() {
         [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
     let bar = "[specimen]\nshape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n";
     for (name, text) in [("plate", base.to_string()), ("bar", format!("{base}{bar}"))] {
-        let scene = Scene::from_toml(&text, name).unwrap();
-        let run = |free: bool| {
-            Simulation::new(&scene, &scene.effects())
-                .unwrap()
-                .with_free_steps(free)
-                .run(&|_| {})
-        };
-        let (free, full) = (run(true), run(false));
-        println!(
-            "{name}: {} impacts, {} of {} shot-steps free",
-            free.impacts.len(),
-            free.work.free_steps,
-            free.work.shot_steps
-        );
+        let free = free_steps_match_full_passes(name, &text);
         // The run meets every path: impacts, collisions, spin, and free steps in number.
         assert!(
             free.impacts.len() > 100,
@@ -377,11 +391,56 @@ fn a_lone_shots_free_steps_give_the_full_passes_run_to_the_bit() {
             "{name}: {:?}",
             free.work
         );
-        assert_eq!(full.work.free_steps, 0);
-        assert_eq!(free.impacts, full.impacts, "{name}");
-        assert_eq!(free.shots, full.shots, "{name}");
-        let mut work = free.work;
-        work.free_steps = 0;
-        assert_eq!(work, full.work, "{name}");
     }
+}
+
+/// The same through the air and the nozzle (session 70): a lone shot's free steps locate
+/// its jet region at each step's end, as the full passes do, and keep clear of the bore's
+/// wall. Ten shots thrown across a short bore with friction, off its wall and each other,
+/// down the jet into the stagnation layer and its wall jet, onto the plate and back up:
+/// the same records and counts to the bit, most steps free.
+#[test]
+fn a_lone_shots_free_steps_through_the_jet_and_the_bore_give_the_full_passes_run() {
+    let mut text = String::from(
+        "duration_ms = 2.0\ngravity_m_s2 = 9.81\n[air]\ngauge_pressure_mpa = 0.4\n\
+         [nozzle]\nbore_mm = 3.0\nlength_mm = 12.0\nstandoff_mm = 15.0\n\
+         [jet]\nstagnation_layer_mm = 4.0\nwall_jet = true\n\
+         [shots]\ndiameter_mm = 0.6\n[shots.feed]\ntype = \"list\"\n",
+    );
+    // In the bore (its exit at z = 15 mm), moving across it.
+    for k in 0..10 {
+        let a = std::f64::consts::TAU * k as f64 / 10.0;
+        let (r, z, v) = (
+            if k % 2 == 1 { 0.5 } else { 0.9 },
+            17.0 + 0.9 * k as f64,
+            3.0 + 0.4 * k as f64,
+        );
+        text += &format!(
+            "[[shots.feed.shots]]\nposition_mm = [{}, {}, {z}]\nvelocity_m_s = [{}, {}, -2.0]\n",
+            r * a.cos(),
+            r * a.sin(),
+            v * (a + 0.5).cos(),
+            v * (a + 0.5).sin()
+        );
+    }
+    text += "[restitution]\nshot_specimen = 0.7\nshot_shot = 0.8\nshot_nozzle = 0.6\n\
+             [friction]\nshot_specimen = 0.3\nshot_shot = 0.2\nshot_nozzle = 0.3\n\
+             [integrator]\nmethod = \"verlet\"\nfixed_step_ns = 20\n";
+    let free = free_steps_match_full_passes("jet", &text);
+    let count = |f: fn(&peenflow::state::ShotState) -> u32| free.shots.iter().map(f).sum::<u32>();
+    let (wall, shot, hits) = (
+        count(|s| s.wall_contacts),
+        count(|s| s.collisions),
+        count(|s| s.hits),
+    );
+    assert!(
+        wall >= 8 && shot >= 4 && hits >= 8,
+        "wall {wall}, shot {shot}, hits {hits}"
+    );
+    assert!(free.shots.iter().any(|s| s.omega.norm() > 1.0));
+    assert!(
+        free.work.free_steps > free.work.shot_steps * 9 / 10,
+        "{:?}",
+        free.work
+    );
 }

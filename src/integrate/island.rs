@@ -588,6 +588,10 @@ struct Ctx<'a> {
     phys: &'a Physics,
     /// Specimen onsets are located (adaptive method) rather than seen at step ends.
     onsets_located: bool,
+    /// Every step's end set each moving member's jet region and side of the layer's top
+    /// from its position (the fixed step's `set_regions`) before [`Ctx::apply_events`]
+    /// reads them: their margins there are never negative, so they are not computed.
+    regions_set: bool,
     /// A large island's blocks for its right-hand side on several threads.
     blocks: Option<Blocks>,
 }
@@ -729,18 +733,21 @@ impl Ctx<'_> {
     }
 
     /// Whether the lone member `m` at `p` (moving) is away from every contact: not
-    /// sliding, not on the specimen and clear of it (its overlap gap above 0: no force,
-    /// no onset, no overlap). The caller has checked that there is no pair, no wall and
-    /// no field (whose regions a step's end would locate).
+    /// sliding, not on the specimen or the nozzle wall, and clear of both (their gaps
+    /// above 0: no force, no onset, no overlap). The caller has checked that there is no
+    /// pair.
     fn clear_of_contacts(&self, m: &ShotState, p: &Vec3) -> bool {
+        let c = &self.phys.contacts;
+        let r = m.body.radius;
         !m.sliding
             && !m.on_specimen
-            && self
-                .phys
-                .contacts
-                .specimen
+            && !m.on_wall
+            && c.specimen
                 .as_ref()
-                .is_none_or(|sp| sp.overlap_gap(p, m.body.radius) > 0.0)
+                .is_none_or(|sp| sp.overlap_gap(p, r) > 0.0)
+            && c.wall
+                .as_ref()
+                .is_none_or(|w| w.geometry(p, r).is_none_or(|g| g.gap > 0.0))
     }
 
     /// The free steps of a lone member `m` (the `lone` case of [`advance_verlet`]) from
@@ -773,6 +780,8 @@ impl Ctx<'_> {
             (Vec3::zeros(), Vec3::zeros())
         };
         let specimen = self.phys.contacts.specimen.is_some();
+        let wall = self.phys.contacts.wall.is_some();
+        let field = self.phys.forces.field.as_ref();
         while *t < t1 && moving(m, *t) {
             let h = if t1 - *t <= step * (1.0 + 1e-9) {
                 t1 - *t
@@ -796,7 +805,12 @@ impl Ctx<'_> {
             work.shot_steps += 1;
             *t = t_new;
             // The forces at the step's end, `Ctx::rhs`'s numbers and counts where there is
-            // no contact: body forces, no torque. The step's starting forces move to `prev`.
+            // no contact: body forces (in the jet region the step's end is in, as
+            // `set_regions` locates it), no torque. The step's starting forces move to
+            // `prev`.
+            if let Some(field) = field {
+                m.locate_at(field, &x);
+            }
             work.free_steps += 1;
             work.rhs_evaluations += 1;
             a = self
@@ -805,6 +819,9 @@ impl Ctx<'_> {
                 .acceleration(&m.body, &x, &v, m.region, &m.gust, work);
             if specimen {
                 work.specimen_contact_checks += 1;
+            }
+            if wall {
+                work.wall_contact_checks += 1;
             }
             std::mem::swap(acc, prev);
             acc[..6].copy_from_slice(&[v.x, v.y, v.z, a.x, a.y, a.z]);
@@ -1674,18 +1691,20 @@ impl Ctx<'_> {
             let r = m.body.radius;
             if let Some(field) = &self.phys.forces.field {
                 let co = field.coords(&p);
-                if field.margin(&co, m.region) < 0.0 {
-                    let next = field.region_of(&co);
-                    if next != m.region {
-                        m.region = next;
+                if !self.regions_set {
+                    if field.margin(&co, m.region) < 0.0 {
+                        let next = field.region_of(&co);
+                        if next != m.region {
+                            m.region = next;
+                            out.work.region_crossings += 1;
+                            changed = true;
+                        }
+                    }
+                    if field.layer_margin(&p, m.in_layer) < 0.0 {
+                        m.in_layer = !m.in_layer;
                         out.work.region_crossings += 1;
                         changed = true;
                     }
-                }
-                if field.layer_margin(&p, m.in_layer) < 0.0 {
-                    m.in_layer = !m.in_layer;
-                    out.work.region_crossings += 1;
-                    changed = true;
                 }
                 // Turbulent eddies: a new one when the last has lived its lifetime; none
                 // outside the mixing layer and the developed jet.
@@ -2900,6 +2919,7 @@ fn advance_adaptive(
     let ctx = Ctx {
         phys,
         onsets_located: true,
+        regions_set: false,
         blocks: Blocks::plan(phys, members, pairs),
     };
     let n = members.len();
@@ -3607,6 +3627,7 @@ fn advance_verlet(
     let ctx = Ctx {
         phys,
         onsets_located: false,
+        regions_set: true,
         blocks: Blocks::plan(phys, members, pairs),
     };
     let n = members.len();
@@ -3700,17 +3721,17 @@ fn advance_verlet(
             }
         }
     }
-    // A lone shot without a field or a wall: its steps away from every contact take its
-    // body forces alone and skip the passes that would find nothing (`Ctx::free_steps`).
-    // In a pile on windows half the shot-steps are such steps (session 67).
+    // A lone shot: its steps away from every contact take its body forces alone and
+    // skip the passes that would find nothing (`Ctx::free_steps`). In a pile on windows
+    // half the shot-steps are such steps (session 67), in a nozzle's stream nearly all.
+    // (No eddies to renew at a step's end either: the fixed step refuses turbulence.)
     let lone = phys.free_steps
         && n == 1
         && pairs.is_empty()
         && !clocks
         && !entries
         && !history
-        && phys.forces.field.is_none()
-        && phys.contacts.wall.is_none();
+        && phys.forces.turbulence.is_none();
     while t < t1 && members.iter().any(|m| m.is_active()) {
         if lone {
             let span = (&mut t, t1, step, apart_after);
