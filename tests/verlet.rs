@@ -376,7 +376,16 @@ fn a_lone_shots_free_steps_give_the_full_passes_run_to_the_bit() {
         [integrator]\nmethod = \"verlet\"\nfixed_step_ns = 20\n\
         [effects]\ndrag = false\nlateral_force = false\nnozzle_wall_contact = false\n";
     let bar = "[specimen]\nshape = \"cylinder\"\nradius_mm = 3.0\naxis_deg = 30.0\n";
-    for (name, text) in [("plate", base.to_string()), ("bar", format!("{base}{bar}"))] {
+    // On the event scheduler, clusters step members from their own clocks.
+    let events = base.replace(
+        "fixed_step_ns = 20\n",
+        "fixed_step_ns = 20\nscheduler = \"events\"\n",
+    );
+    for (name, text) in [
+        ("plate", base.to_string()),
+        ("bar", format!("{base}{bar}")),
+        ("events", events),
+    ] {
         let free = free_steps_match_full_passes(name, &text);
         // The run meets every path: impacts, collisions, spin, and free steps in number.
         assert!(
@@ -386,8 +395,11 @@ fn a_lone_shots_free_steps_give_the_full_passes_run_to_the_bit() {
         );
         assert!(free.work.contact_onsets > free.impacts.len() as u64 + 50);
         assert!(free.shots.iter().any(|s| s.omega.norm() > 1.0));
+        // (The event scheduler flies shots in closed form: a cluster's free steps are
+        // few, those of a member alone in it before or after its contact.)
+        let share = if name == "events" { 1000 } else { 10 };
         assert!(
-            free.work.free_steps > free.work.shot_steps / 10,
+            free.work.free_steps > free.work.shot_steps / share,
             "{name}: {:?}",
             free.work
         );
@@ -407,7 +419,7 @@ fn a_lone_shots_free_steps_through_the_jet_and_the_bore_give_the_full_passes_run
          [jet]\nstagnation_layer_mm = 4.0\nwall_jet = true\n\
          [shots]\ndiameter_mm = 0.6\n[shots.feed]\ntype = \"list\"\n",
     );
-    // In the bore (its exit at z = 15 mm), moving across it.
+    // In the bore (its exit at z = 15 mm), moving across it, entering one by one.
     for k in 0..10 {
         let a = std::f64::consts::TAU * k as f64 / 10.0;
         let (r, z, v) = (
@@ -416,11 +428,12 @@ fn a_lone_shots_free_steps_through_the_jet_and_the_bore_give_the_full_passes_run
             3.0 + 0.4 * k as f64,
         );
         text += &format!(
-            "[[shots.feed.shots]]\nposition_mm = [{}, {}, {z}]\nvelocity_m_s = [{}, {}, -2.0]\n",
+            "[[shots.feed.shots]]\nposition_mm = [{}, {}, {z}]\nvelocity_m_s = [{}, {}, -2.0]\nstart_ms = {}\n",
             r * a.cos(),
             r * a.sin(),
             v * (a + 0.5).cos(),
-            v * (a + 0.5).sin()
+            v * (a + 0.5).sin(),
+            0.01 * k as f64
         );
     }
     text += "[restitution]\nshot_specimen = 0.7\nshot_shot = 0.8\nshot_nozzle = 0.6\n\
@@ -434,7 +447,7 @@ fn a_lone_shots_free_steps_through_the_jet_and_the_bore_give_the_full_passes_run
         count(|s| s.hits),
     );
     assert!(
-        wall >= 8 && shot >= 4 && hits >= 8,
+        wall >= 8 && shot >= 2 && hits >= 8,
         "wall {wall}, shot {shot}, hits {hits}"
     );
     assert!(free.shots.iter().any(|s| s.omega.norm() > 1.0));
@@ -443,4 +456,11 @@ fn a_lone_shots_free_steps_through_the_jet_and_the_bore_give_the_full_passes_run
         "{:?}",
         free.work
     );
+    // Without shot-shot contact: the independent scheduler, each shot entering its run.
+    let alone = text.replace(
+        "[integrator]",
+        "[effects]\nshot_shot_contact = false\n[integrator]",
+    );
+    let free = free_steps_match_full_passes("jet, shots apart", &alone);
+    assert!(free.work.free_steps > free.work.shot_steps * 9 / 10);
 }

@@ -3725,11 +3725,11 @@ fn advance_verlet(
     // skip the passes that would find nothing (`Ctx::free_steps`). In a pile on windows
     // half the shot-steps are such steps (session 67), in a nozzle's stream nearly all.
     // (No eddies to renew at a step's end either: the fixed step refuses turbulence.)
+    // Its entry and its clock change nothing there: free steps start once it moves, no
+    // other member's clock can cut them, and without a pair `hold_entries` holds none.
     let lone = phys.free_steps
         && n == 1
         && pairs.is_empty()
-        && !clocks
-        && !entries
         && !history
         && phys.forces.turbulence.is_none();
     while t < t1 && members.iter().any(|m| m.is_active()) {
