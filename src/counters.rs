@@ -32,7 +32,8 @@ pub struct WorkCounters {
     /// Neighbour searches (sweeps or cell-list builds) for shot-shot contact; a window
     /// that only filters the pairs its neighbour-list skin kept does not count.
     pub neighbour_searches: u64,
-    /// Jet-region border crossings located.
+    /// Jet-region border crossings located (the fixed-step method locates none: each of
+    /// its steps reads the shots' regions off their positions at its end).
     pub region_crossings: u64,
     /// Contact onsets located (all kinds).
     pub contact_onsets: u64,

@@ -1689,7 +1689,9 @@ impl Ctx<'_> {
             }
             let (p, v) = (pos(y, i), vel(y, i));
             let r = m.body.radius;
-            if let Some(field) = &self.phys.forces.field {
+            if let Some(field) = &self.phys.forces.field
+                && (!self.regions_set || self.phys.forces.turbulence.is_some())
+            {
                 let co = field.coords(&p);
                 if !self.regions_set {
                     if field.margin(&co, m.region) < 0.0 {
