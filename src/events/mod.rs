@@ -336,6 +336,11 @@ fn paths_meet(a: &[(f64, Vec3)], b: &[(f64, Vec3)], sigma: f64) -> bool {
 }
 
 /// [`paths_meet`] from time `from` on.
+///
+/// Both paths are read at every sample time of either within the time both cover, in
+/// ascending order, and the relative motion between two such times is linear: two
+/// cursors walk the samples once (a chunk's paths hold a sample per fixed step, and this
+/// is called for every watched pair).
 fn paths_meet_from(a: &[(f64, Vec3)], b: &[(f64, Vec3)], sigma: f64, from: f64) -> bool {
     let (Some(&(a0, _)), Some(&(a1, _)), Some(&(b0, _)), Some(&(b1, _))) =
         (a.first(), a.last(), b.first(), b.last())
@@ -346,38 +351,79 @@ fn paths_meet_from(a: &[(f64, Vec3)], b: &[(f64, Vec3)], sigma: f64, from: f64) 
     if t1 < t0 {
         return false;
     }
-    let at = |p: &[(f64, Vec3)], t: f64| -> Vec3 {
-        if p.len() == 1 {
-            return p[0].1;
-        }
-        let k = p.partition_point(|s| s.0 < t).clamp(1, p.len() - 1);
-        let ((ta, pa), (tb, pb)) = (p[k - 1], p[k]);
-        if tb > ta {
-            pa + (pb - pa) * ((t - ta) / (tb - ta)).clamp(0.0, 1.0)
-        } else {
-            pb
-        }
+    let (mut ca, mut cb) = (PathCursor::new(a, t0), PathCursor::new(b, t0));
+    // The sample times strictly inside `(t0, t1)` of each path, merged, then `t1`.
+    let inside = |p: &[(f64, Vec3)]| {
+        let lo = p.partition_point(|s| s.0 <= t0);
+        let hi = lo + p[lo..].partition_point(|s| s.0 < t1);
+        lo..hi
     };
-    let mut times: Vec<f64> = a
-        .iter()
-        .chain(b)
-        .map(|s| s.0)
-        .filter(|&t| t > t0 && t < t1)
-        .collect();
-    times.push(t1);
-    times.sort_unstable_by(f64::total_cmp);
-    let (mut t, mut d) = (t0, at(b, t0) - at(a, t0));
+    let (mut ia, mut ib) = (inside(a), inside(b));
+    let merged = std::iter::from_fn(move || {
+        let ta = (ia.start < ia.end).then(|| a[ia.start].0);
+        let tb = (ib.start < ib.end).then(|| b[ib.start].0);
+        match (ta, tb) {
+            (Some(x), Some(y)) if x.total_cmp(&y).is_le() => {
+                ia.start += 1;
+                Some(x)
+            }
+            (_, Some(y)) => {
+                ib.start += 1;
+                Some(y)
+            }
+            (Some(x), None) => {
+                ia.start += 1;
+                Some(x)
+            }
+            (None, None) => None,
+        }
+    });
+    let (mut t, mut d) = (t0, cb.at(t0) - ca.at(t0));
     if d.norm() < sigma {
         return true;
     }
-    for &tn in &times {
-        let dn = at(b, tn) - at(a, tn);
+    for tn in merged.chain(std::iter::once(t1)) {
+        let dn = cb.at(tn) - ca.at(tn);
         if tn > t && closest_approach(&d, &((dn - d) / (tn - t)), tn - t) < sigma {
             return true;
         }
         (t, d) = (tn, dn);
     }
     d.norm() < sigma
+}
+
+/// A sampled path read at ascending times (linear between samples, the end samples
+/// held beyond them): the interpolation of [`paths_meet_from`], its segment found by
+/// walking forward rather than by a search at each time.
+struct PathCursor<'p> {
+    path: &'p [(f64, Vec3)],
+    /// The first sample not before the last time read.
+    next: usize,
+}
+
+impl<'p> PathCursor<'p> {
+    fn new(path: &'p [(f64, Vec3)], t: f64) -> Self {
+        let next = path.partition_point(|s| s.0 < t);
+        PathCursor { path, next }
+    }
+
+    /// The position at `t`, not before the last time read.
+    fn at(&mut self, t: f64) -> Vec3 {
+        let p = self.path;
+        if p.len() == 1 {
+            return p[0].1;
+        }
+        while self.next < p.len() && p[self.next].0 < t {
+            self.next += 1;
+        }
+        let k = self.next.clamp(1, p.len() - 1);
+        let ((ta, pa), (tb, pb)) = (p[k - 1], p[k]);
+        if tb > ta {
+            pa + (pb - pa) * ((t - ta) / (tb - ta)).clamp(0.0, 1.0)
+        } else {
+            pb
+        }
+    }
 }
 
 /// What integrating one cluster chunk produced (on copies of the members).
@@ -2485,6 +2531,121 @@ mod tests {
         assert!(paths_meet(&a, &b, sigma));
         let far = straight(Vec3::new(0.0, 0.808e-3, 0.0), Vec3::zeros(), &times);
         assert!(!paths_meet(&a, &far, sigma));
+    }
+
+    /// [`paths_meet_from`] as it was written before session 70: every sample time of
+    /// either path collected and sorted, each path read by a binary search per time.
+    fn paths_meet_from_by_search(
+        a: &[(f64, Vec3)],
+        b: &[(f64, Vec3)],
+        sigma: f64,
+        from: f64,
+    ) -> bool {
+        let (Some(&(a0, _)), Some(&(a1, _)), Some(&(b0, _)), Some(&(b1, _))) =
+            (a.first(), a.last(), b.first(), b.last())
+        else {
+            return false;
+        };
+        let (t0, t1) = (a0.max(b0).max(from), a1.min(b1));
+        if t1 < t0 {
+            return false;
+        }
+        let at = |p: &[(f64, Vec3)], t: f64| -> Vec3 {
+            if p.len() == 1 {
+                return p[0].1;
+            }
+            let k = p.partition_point(|s| s.0 < t).clamp(1, p.len() - 1);
+            let ((ta, pa), (tb, pb)) = (p[k - 1], p[k]);
+            if tb > ta {
+                pa + (pb - pa) * ((t - ta) / (tb - ta)).clamp(0.0, 1.0)
+            } else {
+                pb
+            }
+        };
+        let mut times: Vec<f64> = a
+            .iter()
+            .chain(b)
+            .map(|s| s.0)
+            .filter(|&t| t > t0 && t < t1)
+            .collect();
+        times.push(t1);
+        times.sort_unstable_by(f64::total_cmp);
+        let (mut t, mut d) = (t0, at(b, t0) - at(a, t0));
+        if d.norm() < sigma {
+            return true;
+        }
+        for &tn in &times {
+            let dn = at(b, tn) - at(a, tn);
+            if tn > t && closest_approach(&d, &((dn - d) / (tn - t)), tn - t) < sigma {
+                return true;
+            }
+            (t, d) = (tn, dn);
+        }
+        d.norm() < sigma
+    }
+
+    /// The cursors' walk decides as the search did, on random paths near the contact
+    /// distance: sampled at their own times, at shared times, with repeated times, one
+    /// sample long, starting and ending apart, read from a time inside.
+    #[test]
+    fn the_walk_along_two_paths_decides_as_the_search_did() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(70);
+        let sigma = 0.8e-3;
+        let (mut met, mut apart) = (0, 0);
+        for case in 0..20_000 {
+            let path = |rng: &mut rand::rngs::StdRng, shared: &[f64]| {
+                let n = rng.random_range(1..12);
+                let mut times: Vec<f64> = if case % 3 == 0 {
+                    shared.iter().copied().take(n).collect()
+                } else {
+                    let t0 = rng.random_range(0.0..2e-6);
+                    (0..n).map(|_| t0 + rng.random_range(0.0..1e-5)).collect()
+                };
+                if case % 7 == 0 && times.len() > 1 {
+                    times[1] = times[0]; // a repeated time
+                }
+                times.sort_by(f64::total_cmp);
+                let p0 = Vec3::new(
+                    rng.random_range(-1e-3..1e-3),
+                    rng.random_range(-1e-3..1e-3),
+                    0.0,
+                );
+                let v = Vec3::new(
+                    rng.random_range(-60.0..60.0),
+                    rng.random_range(-60.0..60.0),
+                    0.0,
+                );
+                // Kinked at each sample, as contacts bend a path.
+                times
+                    .iter()
+                    .map(|&t| {
+                        let kink = Vec3::new(
+                            rng.random_range(-2e-4..2e-4),
+                            rng.random_range(-2e-4..2e-4),
+                            0.0,
+                        );
+                        (t, p0 + v * t + kink)
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let shared: Vec<f64> = (0..12).map(|k| k as f64 * 1e-6).collect();
+            let (a, b) = (path(&mut rng, &shared), path(&mut rng, &shared));
+            let from = if case % 2 == 0 {
+                f64::NEG_INFINITY
+            } else {
+                rng.random_range(0.0..1e-5)
+            };
+            let got = paths_meet_from(&a, &b, sigma, from);
+            assert_eq!(
+                got,
+                paths_meet_from_by_search(&a, &b, sigma, from),
+                "case {case}: {a:?} {b:?} from {from}"
+            );
+            if got { met += 1 } else { apart += 1 }
+        }
+        println!("met {met}, apart {apart}");
+        assert!(met > 2000 && apart > 2000, "met {met}, apart {apart}");
     }
 
     /// Samples at different times: each path is read between its own samples; only the
