@@ -326,14 +326,48 @@ fn cut<'a, T>(mut v: &'a mut [T], bounds: &[usize], width: usize) -> Vec<&'a mut
 /// touching.
 fn pair_separations(pairs: &mut [IslandPair], radius: impl Fn(usize) -> f64, y: &[f64]) {
     for pr in pairs.iter_mut() {
-        if pr.touching {
-            let (i, j) = (pr.a as usize, pr.b as usize);
-            let gap = (pos(y, j) - pos(y, i)).norm() - radius(i) - radius(j);
-            if gap > 0.0 {
-                pr.touching = false;
-            }
+        let (i, j) = (pr.a as usize, pr.b as usize);
+        pair_separation(pr, (radius(i), radius(j)), y);
+    }
+}
+
+/// [`pair_separations`] of pair `pr`, its shots' radii `ri` and `rj`.
+#[inline(always)]
+fn pair_separation(pr: &mut IslandPair, (ri, rj): (f64, f64), y: &[f64]) {
+    if pr.touching {
+        let (i, j) = (pr.a as usize, pr.b as usize);
+        let gap = (pos(y, j) - pos(y, i)).norm() - ri - rj;
+        if gap > 0.0 {
+            pr.touching = false;
         }
     }
+}
+
+/// The overlap guard ([`Ctx::overlap_violation`]) of pair `pr`, both of whose shots move
+/// (radii `ri` and `rj`).
+#[inline(always)]
+fn pair_overlap_of(
+    members: &[ShotState],
+    pr: &IslandPair,
+    (ri, rj): (f64, f64),
+    y: &[f64],
+) -> Option<String> {
+    let (i, j) = (pr.a as usize, pr.b as usize);
+    let r_eff = PairContact::effective_radius(ri, rj);
+    let d = pos(y, j) - pos(y, i);
+    if surely_apart(&d, ri + rj - r_eff) {
+        return None;
+    }
+    let overlap = ri + rj - d.norm();
+    (overlap > r_eff).then(|| {
+        format!(
+            "shots {} and {} overlap by {:.4} mm, {:.0} % of their effective radius",
+            members[i].id.0,
+            members[j].id.0,
+            overlap * 1e3,
+            100.0 * overlap / r_eff
+        )
+    })
 }
 
 /// Default of [`Physics::blocks_min`].
@@ -1680,93 +1714,126 @@ impl Ctx<'_> {
         y: &[f64],
         out: &mut IslandOutput,
     ) -> bool {
-        let c = &self.phys.contacts;
         let mut changed = false;
         let n = members.len();
         for (i, m) in members.iter_mut().enumerate() {
-            if !moving(m, t) {
-                continue;
-            }
-            let (p, v) = (pos(y, i), vel(y, i));
-            let r = m.body.radius;
-            if let Some(field) = &self.phys.forces.field
-                && (!self.regions_set || self.phys.forces.turbulence.is_some())
-            {
-                let co = field.coords(&p);
-                if !self.regions_set {
-                    if field.margin(&co, m.region) < 0.0 {
-                        let next = field.region_of(&co);
-                        if next != m.region {
-                            m.region = next;
-                            out.work.region_crossings += 1;
-                            changed = true;
-                        }
-                    }
-                    if field.layer_margin(&p, m.in_layer) < 0.0 {
-                        m.in_layer = !m.in_layer;
-                        out.work.region_crossings += 1;
-                        changed = true;
-                    }
-                }
-                // Turbulent eddies: a new one when the last has lived its lifetime; none
-                // outside the mixing layer and the developed jet.
-                if let Some(turb) = &self.phys.forces.turbulence {
-                    if !Turbulence::turbulent(m.region) {
-                        if m.gust_until > f64::NEG_INFINITY {
-                            m.gust = Vec3::zeros();
-                            m.gust_until = f64::NEG_INFINITY;
-                            changed = true;
-                        }
-                    } else if t >= m.gust_until {
-                        let (u, _) = field.speed_density(&co, m.region);
-                        match turb.eddy(m.id.0, m.gusts, &co, m.region, u) {
-                            Some((g, life)) => {
-                                m.gust = g;
-                                m.gust_until = t + life;
-                                m.gusts += 1;
-                                out.work.eddies += 1;
-                            }
-                            None => {
-                                m.gust = Vec3::zeros();
-                                m.gust_until = f64::NEG_INFINITY;
-                            }
-                        }
-                        changed = true;
-                    }
-                }
-            }
-            if let Some(sp) = &c.specimen
-                && !m.on_specimen
-                && sp.overlap_gap(&p, r) < 0.0
-            {
-                let w = spin_at(y, y, n, i, 0.0);
-                self.specimen_onset(m, t, &p, &v, &w, out);
-                changed = true;
-            }
-            if let Some(w) = &c.wall
-                && !m.on_wall
-                && w.geometry(&p, r).is_some_and(|g| g.gap < 0.0)
-            {
-                self.wall_onset(m, t, &p, &v, out);
-                changed = true;
+            if moving(m, t) {
+                changed |= self.member_events(m, (i, n), t, y, out);
             }
         }
-        if c.pair.is_some() {
+        if self.phys.contacts.pair.is_some() {
             for pr in pairs.iter_mut() {
                 let (i, j) = (pr.a as usize, pr.b as usize);
                 if pr.touching || !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
                 }
-                let (pi, pj) = (pos(y, i), pos(y, j));
-                let (d, reach) = (pj - pi, members[i].body.radius + members[j].body.radius);
-                if !surely_apart(&d, reach) && d.norm() < reach {
-                    let (vi, vj) = (vel(y, i), vel(y, j));
-                    self.pair_onset(pr, members, t, (&pi, &vi), (&pj, &vj), out);
+                let radii = (members[i].body.radius, members[j].body.radius);
+                changed |= self.pair_events(pr, radii, members, t, y, out);
+            }
+        }
+        changed
+    }
+
+    /// [`Ctx::apply_events`] of moving member `i` of `n`, `m`: its regions, its eddy, its
+    /// onsets on the specimen and the wall. Whether anything changed.
+    #[inline(always)]
+    fn member_events(
+        &self,
+        m: &mut ShotState,
+        (i, n): (usize, usize),
+        t: f64,
+        y: &[f64],
+        out: &mut IslandOutput,
+    ) -> bool {
+        let c = &self.phys.contacts;
+        let mut changed = false;
+        let (p, v) = (pos(y, i), vel(y, i));
+        let r = m.body.radius;
+        if let Some(field) = &self.phys.forces.field
+            && (!self.regions_set || self.phys.forces.turbulence.is_some())
+        {
+            let co = field.coords(&p);
+            if !self.regions_set {
+                if field.margin(&co, m.region) < 0.0 {
+                    let next = field.region_of(&co);
+                    if next != m.region {
+                        m.region = next;
+                        out.work.region_crossings += 1;
+                        changed = true;
+                    }
+                }
+                if field.layer_margin(&p, m.in_layer) < 0.0 {
+                    m.in_layer = !m.in_layer;
+                    out.work.region_crossings += 1;
+                    changed = true;
+                }
+            }
+            // Turbulent eddies: a new one when the last has lived its lifetime; none
+            // outside the mixing layer and the developed jet.
+            if let Some(turb) = &self.phys.forces.turbulence {
+                if !Turbulence::turbulent(m.region) {
+                    if m.gust_until > f64::NEG_INFINITY {
+                        m.gust = Vec3::zeros();
+                        m.gust_until = f64::NEG_INFINITY;
+                        changed = true;
+                    }
+                } else if t >= m.gust_until {
+                    let (u, _) = field.speed_density(&co, m.region);
+                    match turb.eddy(m.id.0, m.gusts, &co, m.region, u) {
+                        Some((g, life)) => {
+                            m.gust = g;
+                            m.gust_until = t + life;
+                            m.gusts += 1;
+                            out.work.eddies += 1;
+                        }
+                        None => {
+                            m.gust = Vec3::zeros();
+                            m.gust_until = f64::NEG_INFINITY;
+                        }
+                    }
                     changed = true;
                 }
             }
         }
+        if let Some(sp) = &c.specimen
+            && !m.on_specimen
+            && sp.overlap_gap(&p, r) < 0.0
+        {
+            let w = spin_at(y, y, n, i, 0.0);
+            self.specimen_onset(m, t, &p, &v, &w, out);
+            changed = true;
+        }
+        if let Some(w) = &c.wall
+            && !m.on_wall
+            && w.geometry(&p, r).is_some_and(|g| g.gap < 0.0)
+        {
+            self.wall_onset(m, t, &p, &v, out);
+            changed = true;
+        }
         changed
+    }
+
+    /// [`Ctx::apply_events`] of a pair not touching whose members both move (radii `ri`
+    /// and `rj`): its onset if they overlap. Whether it touched.
+    #[inline(always)]
+    fn pair_events(
+        &self,
+        pr: &mut IslandPair,
+        (ri, rj): (f64, f64),
+        members: &mut [ShotState],
+        t: f64,
+        y: &[f64],
+        out: &mut IslandOutput,
+    ) -> bool {
+        let (i, j) = (pr.a as usize, pr.b as usize);
+        let (pi, pj) = (pos(y, i), pos(y, j));
+        let (d, reach) = (pj - pi, ri + rj);
+        if !surely_apart(&d, reach) && d.norm() < reach {
+            let (vi, vj) = (vel(y, i), vel(y, j));
+            self.pair_onset(pr, members, t, (&pi, &vi), (&pj, &vj), out);
+            return true;
+        }
+        false
     }
 
     /// Step cap (s) from contacts in progress and contacts being approached, and the
@@ -2144,42 +2211,42 @@ impl Ctx<'_> {
         t: f64,
         y: &[f64],
     ) -> Option<String> {
+        ms.filter(|&i| moving(&members[i], t))
+            .find_map(|i| self.member_overlap_of(&members[i], &pos(y, i)))
+    }
+
+    /// [`Ctx::overlap_violation`] of a moving member `m` at `p`.
+    #[inline(always)]
+    fn member_overlap_of(&self, m: &ShotState, p: &Vec3) -> Option<String> {
         let c = &self.phys.contacts;
-        for i in ms {
-            let m = &members[i];
-            if !moving(m, t) {
-                continue;
-            }
-            let p = pos(y, i);
-            let r = m.body.radius;
-            // The cheaper gap first (exact up to an overlap of a diameter, an overlap of
-            // at least a diameter beyond), the exact one for the message.
-            if let Some(sp) = c
-                .specimen
-                .as_ref()
-                .filter(|sp| sp.overlap_gap(&p, r) < -0.5 * r)
-            {
-                let overlap = -sp.gap(&p, r);
-                if overlap > 0.5 * r {
-                    return Some(format!(
-                        "shot {} overlaps the specimen by {:.4} mm, {:.0} % of its radius",
-                        m.id.0,
-                        overlap * 1e3,
-                        100.0 * overlap / r
-                    ));
-                }
-            }
-            if let Some(w) = &c.wall
-                && let Some(g) = w.geometry(&p, r)
-                && -g.gap > 0.5 * r
-            {
+        let r = m.body.radius;
+        // The cheaper gap first (exact up to an overlap of a diameter, an overlap of
+        // at least a diameter beyond), the exact one for the message.
+        if let Some(sp) = c
+            .specimen
+            .as_ref()
+            .filter(|sp| sp.overlap_gap(p, r) < -0.5 * r)
+        {
+            let overlap = -sp.gap(p, r);
+            if overlap > 0.5 * r {
                 return Some(format!(
-                    "shot {} overlaps the nozzle wall by {:.4} mm, {:.0} % of its radius",
+                    "shot {} overlaps the specimen by {:.4} mm, {:.0} % of its radius",
                     m.id.0,
-                    -g.gap * 1e3,
-                    -100.0 * g.gap / r
+                    overlap * 1e3,
+                    100.0 * overlap / r
                 ));
             }
+        }
+        if let Some(w) = &c.wall
+            && let Some(g) = w.geometry(p, r)
+            && -g.gap > 0.5 * r
+        {
+            return Some(format!(
+                "shot {} overlaps the nozzle wall by {:.4} mm, {:.0} % of its radius",
+                m.id.0,
+                -g.gap * 1e3,
+                -100.0 * g.gap / r
+            ));
         }
         None
     }
@@ -2192,31 +2259,71 @@ impl Ctx<'_> {
         t: f64,
         y: &[f64],
     ) -> Option<String> {
-        if self.phys.contacts.pair.is_some() {
-            for pr in pairs {
-                let (i, j) = (pr.a as usize, pr.b as usize);
-                if !moving(&members[i], t) || !moving(&members[j], t) {
-                    continue;
+        self.phys.contacts.pair.as_ref()?;
+        pairs
+            .iter()
+            .filter(|pr| moving(&members[pr.a as usize], t) && moving(&members[pr.b as usize], t))
+            .find_map(|pr| {
+                let radii = (
+                    members[pr.a as usize].body.radius,
+                    members[pr.b as usize].body.radius,
+                );
+                pair_overlap_of(members, pr, radii, y)
+            })
+    }
+
+    /// A fixed step's end at `(t, y)` in one pass over the members and one over the pairs
+    /// (an island without blocks): [`Ctx::apply_events`], then the overlap guard and the
+    /// separations of [`Ctx::end_of_step`], each member and each pair taken through all
+    /// three at once. The same as the three passes: an onset changes only its own member
+    /// or pair (and the members' collision counts, which the guard does not read), and
+    /// when the guard finds a violation the island fails, so the separations made beside
+    /// it are never read. Returns the guard's first violation, the members' before the
+    /// pairs' (the caller stops the island on one), and whether a moving member is outside
+    /// the domain (the caller then takes the shots that left: [`Ctx::leave_domain`]).
+    fn fixed_step_end(
+        &self,
+        members: &mut [ShotState],
+        pairs: &mut [IslandPair],
+        t: f64,
+        y: &[f64],
+        out: &mut IslandOutput,
+    ) -> (Option<String>, bool) {
+        let n = members.len();
+        let (mut violation, mut outside) = (None, false);
+        // Whether every member moves: the pairs' pass then need not ask, pair by pair.
+        let mut all_moving = true;
+        for (i, m) in members.iter_mut().enumerate() {
+            let p = pos(y, i);
+            if moving(m, t) {
+                self.member_events(m, (i, n), t, y, out);
+                if violation.is_none() {
+                    violation = self.member_overlap_of(m, &p);
                 }
-                let (ri, rj) = (members[i].body.radius, members[j].body.radius);
-                let r_eff = PairContact::effective_radius(ri, rj);
-                let d = pos(y, j) - pos(y, i);
-                if surely_apart(&d, ri + rj - r_eff) {
-                    continue;
-                }
-                let overlap = ri + rj - d.norm();
-                if overlap > r_eff {
-                    return Some(format!(
-                        "shots {} and {} overlap by {:.4} mm, {:.0} % of their effective radius",
-                        members[i].id.0,
-                        members[j].id.0,
-                        overlap * 1e3,
-                        100.0 * overlap / r_eff
-                    ));
-                }
+                outside |= !self.phys.domain.contains(&p);
+            } else {
+                all_moving = false;
             }
+            self.member_separation(m, &p);
         }
-        None
+        if self.phys.contacts.pair.is_some() {
+            let mut pair_violation = None;
+            for pr in pairs.iter_mut() {
+                let (i, j) = (pr.a as usize, pr.b as usize);
+                let r = (members[i].body.radius, members[j].body.radius);
+                if all_moving || (moving(&members[i], t) && moving(&members[j], t)) {
+                    if !pr.touching {
+                        self.pair_events(pr, r, members, t, y, out);
+                    }
+                    if violation.is_none() && pair_violation.is_none() {
+                        pair_violation = pair_overlap_of(members, pr, r, y);
+                    }
+                }
+                pair_separation(pr, r, y);
+            }
+            violation = violation.or(pair_violation);
+        }
+        (violation, outside)
     }
 
     /// Bookkeeping after an accepted step at `(t, y)`: the overlap guard (stops the
@@ -2232,14 +2339,7 @@ impl Ctx<'_> {
         suggestion: &str,
     ) -> Option<bool> {
         if let Some(cause) = self.overlap_violation(members, pairs, t, y) {
-            fail_island(
-                members,
-                t,
-                y,
-                out,
-                &format!("{cause}: Hertz contact does not hold there"),
-                suggestion,
-            );
+            fail_island(members, t, y, out, &overlap_cause(&cause), suggestion);
             return None;
         }
         self.update_separations(members, pairs, y);
@@ -2277,25 +2377,30 @@ impl Ctx<'_> {
 
     /// [`Ctx::update_separations`] of the members `ms`, the first of them member `lo`.
     fn separations_of(&self, ms: &mut [ShotState], lo: usize, y: &[f64]) {
-        let c = &self.phys.contacts;
         for (k, m) in ms.iter_mut().enumerate() {
-            let p = pos(y, lo + k);
-            // The cheaper gap has the gap's sign, but may be 0 for a positive gap.
-            if m.on_specimen
-                && let Some(sp) = &c.specimen
-                && let g = sp.overlap_gap(&p, m.body.radius)
-                && (g > 0.0 || (g == 0.0 && sp.gap(&p, m.body.radius) > 0.0))
-            {
-                m.on_specimen = false;
-            }
-            if m.on_wall {
-                let apart = c
-                    .wall
-                    .and_then(|w| w.geometry(&p, m.body.radius))
-                    .is_none_or(|g| g.gap > 0.0);
-                if apart {
-                    m.on_wall = false;
-                }
+            self.member_separation(m, &pos(y, lo + k));
+        }
+    }
+
+    /// [`Ctx::update_separations`] of member `m` at `p`.
+    #[inline(always)]
+    fn member_separation(&self, m: &mut ShotState, p: &Vec3) {
+        let c = &self.phys.contacts;
+        // The cheaper gap has the gap's sign, but may be 0 for a positive gap.
+        if m.on_specimen
+            && let Some(sp) = &c.specimen
+            && let g = sp.overlap_gap(p, m.body.radius)
+            && (g > 0.0 || (g == 0.0 && sp.gap(p, m.body.radius) > 0.0))
+        {
+            m.on_specimen = false;
+        }
+        if m.on_wall {
+            let apart = c
+                .wall
+                .and_then(|w| w.geometry(p, m.body.radius))
+                .is_none_or(|g| g.gap > 0.0);
+            if apart {
+                m.on_wall = false;
             }
         }
     }
@@ -3473,6 +3578,11 @@ pub(crate) fn first_crossing_guided(
     (end, last == end)
 }
 
+/// A run event's cause for an overlap the guard found ([`Ctx::overlap_violation`]).
+fn overlap_cause(overlap: &str) -> String {
+    format!("{overlap}: Hertz contact does not hold there")
+}
+
 fn fail_island(
     members: &mut [ShotState],
     t: f64,
@@ -3761,8 +3871,8 @@ fn advance_verlet(
         } else {
             step
         };
-        // Kick and drift.
-        for (i, m) in members.iter().enumerate() {
+        // Kick and drift, and the step counted.
+        for (i, m) in members.iter_mut().enumerate() {
             if !moving(m, t) {
                 continue;
             }
@@ -3772,17 +3882,13 @@ fn advance_verlet(
             if spin {
                 kick_spin(y, acc, n, i, 0.5 * h);
             }
-        }
-        let t_new = if h == stop - t { stop } else { t + h };
-        for m in members.iter_mut() {
-            if moving(m, t) {
-                m.steps += 1;
-                work.shot_steps += 1;
-                if m.on_specimen && m.hits == 1 {
-                    m.first_contact_steps += 1;
-                }
+            m.steps += 1;
+            work.shot_steps += 1;
+            if m.on_specimen && m.hits == 1 {
+                m.first_contact_steps += 1;
             }
         }
+        let t_new = if h == stop - t { stop } else { t + h };
         // A shot entering during the step starts moving at its end; on top of one already
         // moving it waits instead (as the adaptive method holds it at its entry time).
         if entries {
@@ -3830,7 +3936,14 @@ fn advance_verlet(
         // Contacts are seen when a step ends overlapping, as a fixed-step DEM code sees them;
         // a specimen impact is recorded where the shot touched, on the step's free path.
         let recorded = out.impacts.len();
-        ctx.apply_events(members, pairs, t, y, out);
+        // Without blocks, the step's end in one pass (`Ctx::fixed_step_end`).
+        let one_pass = ctx.blocks.is_none();
+        let (violation, outside) = if one_pass {
+            ctx.fixed_step_end(members, pairs, t, y, out)
+        } else {
+            ctx.apply_events(members, pairs, t, y, out);
+            (None, false)
+        };
         for imp in &mut out.impacts[recorded..] {
             if let Some(i) = members.iter().position(|m| m.id.0 == imp.shot) {
                 let shape = &ctx
@@ -3864,8 +3977,17 @@ fn advance_verlet(
             }
         }
         observer(t, y);
-        if ctx
-            .end_of_step(members, pairs, t, y, out, "use a smaller fixed step")
+        let suggestion = "use a smaller fixed step";
+        if let Some(cause) = violation {
+            fail_island(members, t, y, out, &overlap_cause(&cause), suggestion);
+            break;
+        }
+        if one_pass {
+            if outside {
+                ctx.leave_domain(members, t, y);
+            }
+        } else if ctx
+            .end_of_step(members, pairs, t, y, out, suggestion)
             .is_none()
         {
             break;
