@@ -728,7 +728,6 @@ impl Ctx<'_> {
     /// the same terms in the same order as in one pass over every member and pair, so
     /// `dy` is the same to the bit for any thread count.
     #[allow(clippy::too_many_arguments)]
-    #[allow(clippy::too_many_arguments)]
     fn rhs(
         &self,
         members: &[ShotState],
