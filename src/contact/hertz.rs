@@ -62,12 +62,32 @@ impl HertzLaw {
     /// kink, so that its stages see a smooth force.
     #[inline]
     pub fn force_unclamped(&self, k: f64, m_eff: f64, overlap: f64, overlap_rate: f64) -> f64 {
+        self.force_unclamped_with(k, (m_eff * k).sqrt(), overlap, overlap_rate)
+    }
+
+    /// [`HertzLaw::force`] with `root_mk = sqrt(m_eff k)` given: the same number, for a
+    /// caller that keeps it for a pair of bodies.
+    #[inline]
+    pub fn force_with(&self, k: f64, root_mk: f64, overlap: f64, overlap_rate: f64) -> f64 {
+        self.force_unclamped_with(k, root_mk, overlap, overlap_rate)
+            .max(0.0)
+    }
+
+    /// [`HertzLaw::force_unclamped`] with `root_mk = sqrt(m_eff k)` given.
+    #[inline]
+    pub fn force_unclamped_with(
+        &self,
+        k: f64,
+        root_mk: f64,
+        overlap: f64,
+        overlap_rate: f64,
+    ) -> f64 {
         if overlap <= 0.0 {
             return 0.0;
         }
         let sq = overlap.sqrt();
         let spring = k * overlap * sq;
-        let dashpot = self.damping * (m_eff * k).sqrt() * sq.sqrt() * overlap_rate;
+        let dashpot = self.damping * root_mk * sq.sqrt() * overlap_rate;
         spring + dashpot
     }
 }

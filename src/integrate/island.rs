@@ -173,6 +173,8 @@ pub struct Scratch {
     /// Event location: the step's dense output and a state read off it.
     dense: DenseStep,
     probe: Vec<f64>,
+    /// The island's pairs' Hertz constants ([`pair_laws`]).
+    laws: Vec<PairLaw>,
 }
 
 impl Default for Scratch {
@@ -185,6 +187,7 @@ impl Default for Scratch {
             pushing: Pushing::default(),
             dense: DenseStep::default(),
             probe: Vec::new(),
+            laws: Vec::new(),
         }
     }
 }
@@ -508,13 +511,48 @@ struct PairGeom {
     rate: f64,
     k: f64,
     m_eff: f64,
+    /// `sqrt(m_eff k)`, the dashpot's factor ([`HertzLaw::force_unclamped_with`]).
+    root_mk: f64,
 }
 
-/// [`PairGeom`] of members `i` and `j` (their bodies given) in state `y`; `None` when
-/// they do not overlap.
+/// A pair's Hertz constants, fixed while an island runs (its shots' radii and masses):
+/// found once per island run ([`pair_laws`]) instead of at every force evaluation, the
+/// same numbers.
+#[derive(Debug, Clone, Copy, Default)]
+struct PairLaw {
+    /// Stiffness `K`, N/m^1.5.
+    k: f64,
+    /// Effective mass, kg.
+    m_eff: f64,
+    /// `sqrt(m_eff K)`.
+    root_mk: f64,
+}
+
+/// Each pair's [`PairLaw`] (none without shot-shot contact), into `laws`.
+fn pair_laws(phys: &Physics, members: &[ShotState], pairs: &[IslandPair], laws: &mut Vec<PairLaw>) {
+    laws.clear();
+    let Some(pc) = &phys.contacts.pair else {
+        return;
+    };
+    laws.extend(pairs.iter().map(|pr| {
+        let (mi, mj) = (&members[pr.a as usize].body, &members[pr.b as usize].body);
+        let k = pc
+            .law
+            .stiffness(PairContact::effective_radius(mi.radius, mj.radius));
+        let m_eff = effective_mass(mi.mass, mj.mass);
+        PairLaw {
+            k,
+            m_eff,
+            root_mk: (m_eff * k).sqrt(),
+        }
+    }));
+}
+
+/// [`PairGeom`] of members `i` and `j` (their bodies given, their pair's law `law`) in
+/// state `y`; `None` when they do not overlap.
 #[inline(always)]
 fn pair_geometry(
-    pc: &PairContact,
+    law: &PairLaw,
     (i, mi): (usize, &ShotBody),
     (j, mj): (usize, &ShotBody),
     y: &[f64],
@@ -533,10 +571,9 @@ fn pair_geometry(
         nrm,
         overlap,
         rate: -(vel(y, j) - vel(y, i)).dot(&nrm),
-        k: pc
-            .law
-            .stiffness(PairContact::effective_radius(mi.radius, mj.radius)),
-        m_eff: effective_mass(mi.mass, mj.mass),
+        k: law.k,
+        m_eff: law.m_eff,
+        root_mk: law.root_mk,
     })
 }
 
@@ -628,6 +665,8 @@ struct Ctx<'a> {
     regions_set: bool,
     /// A large island's blocks for its right-hand side on several threads.
     blocks: Option<Blocks>,
+    /// Each pair's Hertz constants ([`pair_laws`]; empty without shot-shot contact).
+    laws: &'a [PairLaw],
 }
 
 impl Ctx<'_> {
@@ -1054,16 +1093,17 @@ impl Ctx<'_> {
                     overlap,
                     rate,
                     k,
-                    m_eff,
-                }) = pair_geometry(pc, (i, mi), (j, mj), y)
+                    root_mk,
+                    ..
+                }) = pair_geometry(&self.laws[q], (i, mi), (j, mj), y)
                 else {
                     continue;
                 };
                 // Unclamped while pushing at the step's start, as the specimen's above.
                 let f = if pushing.is_some_and(|p| p.pairs[q]) {
-                    pc.law.force_unclamped(k, m_eff, overlap, rate)
+                    pc.law.force_unclamped_with(k, root_mk, overlap, rate)
                 } else {
-                    pc.law.force(k, m_eff, overlap, rate)
+                    pc.law.force_with(k, root_mk, overlap, rate)
                 };
                 if own_i {
                     add_at(lin, 6 * (i - lo) + 3, &(nrm * (-f / mi.mass)));
@@ -1200,7 +1240,7 @@ impl Ctx<'_> {
             let (i, j) = (pr.a as usize, pr.b as usize);
             let (mi, mj) = (&members[i].body, &members[j].body);
             let geometry = (moving(&members[i], t) && moving(&members[j], t))
-                .then(|| pair_geometry(pc, (i, mi), (j, mj), y))
+                .then(|| pair_geometry(&self.laws[q], (i, mi), (j, mj), y))
                 .flatten();
             let Some(PairGeom {
                 nrm,
@@ -1208,6 +1248,7 @@ impl Ctx<'_> {
                 rate,
                 k,
                 m_eff,
+                root_mk,
             }) = geometry
             else {
                 if !keep {
@@ -1215,7 +1256,7 @@ impl Ctx<'_> {
                 }
                 continue;
             };
-            let f_n = pc.law.force(k, m_eff, overlap, rate);
+            let f_n = pc.law.force_with(k, root_mk, overlap, rate);
             let (_, _, slip) = pair_slip(y, n, (i, mi.radius), (j, mj.radius), &nrm, overlap);
             let k_t = friction::history_stiffness(g_p, k, overlap);
             let gamma = friction::history_damping(g_p, pc.law.damping, m_eff, k, overlap);
@@ -3022,12 +3063,6 @@ fn advance_adaptive(
         "the history tangential law runs on the fixed-step and hybrid methods only (the \
          scene loader refuses it with the adaptive one)"
     );
-    let ctx = Ctx {
-        phys,
-        onsets_located: true,
-        regions_set: false,
-        blocks: Blocks::plan(phys, members, pairs),
-    };
     let n = members.len();
     // The members' states hold at `t0`: a step kept from an earlier window is stale.
     for m in members.iter_mut() {
@@ -3084,7 +3119,16 @@ fn advance_adaptive(
         pushing,
         dense,
         probe,
+        laws,
     } = scratch;
+    pair_laws(phys, members, pairs, laws);
+    let ctx = Ctx {
+        phys,
+        onsets_located: true,
+        regions_set: false,
+        blocks: Blocks::plan(phys, members, pairs),
+        laws,
+    };
     dopri.invalidate();
     let mut work = WorkCounters::default();
 
@@ -3735,12 +3779,6 @@ fn advance_verlet(
     out: &mut IslandOutput,
     observer: &mut dyn FnMut(f64, &[f64]),
 ) -> f64 {
-    let ctx = Ctx {
-        phys,
-        onsets_located: false,
-        regions_set: true,
-        blocks: Blocks::plan(phys, members, pairs),
-    };
     let n = members.len();
     // With friction the shots spin: angular velocities are kicked as the velocities are.
     let spin = phys.contacts.friction.is_some();
@@ -3751,9 +3789,18 @@ fn advance_verlet(
         y,
         y_new: acc,
         err: prev,
+        laws,
         ..
     } = scratch;
     prev.resize(acc.len(), 0.0);
+    pair_laws(phys, members, pairs, laws);
+    let ctx = Ctx {
+        phys,
+        onsets_located: false,
+        regions_set: true,
+        blocks: Blocks::plan(phys, members, pairs),
+        laws,
+    };
     let mut work = WorkCounters::default();
     let set_regions = |members: &mut [ShotState], t: f64, y: &[f64]| {
         if let Some(field) = &phys.forces.field {
