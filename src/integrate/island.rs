@@ -1367,7 +1367,7 @@ impl Ctx<'_> {
         for q in ps {
             let pr = &pairs[q];
             if pushing.pairs[q] {
-                g = g.min(KINK_SCALE * self.pair_unloading(members, pr, y));
+                g = g.min(KINK_SCALE * self.pair_unloading(members, pairs, q, y));
             }
             if pushing.approaching[q] {
                 g = g.min(KINK_SCALE * pair_gap(members, pr, y));
@@ -1419,8 +1419,13 @@ impl Ctx<'_> {
         }
     }
 
-    /// A touching pair's contact now (`None` at zero distance).
-    fn pair_now(&self, members: &[ShotState], pr: &IslandPair, y: &[f64]) -> Option<PairNow<'_>> {
+    /// A touching pair's contact now (`None` at zero distance), `law` its constants.
+    fn pair_now(
+        &self,
+        members: &[ShotState],
+        (pr, law): (&IslandPair, &PairLaw),
+        y: &[f64],
+    ) -> Option<PairNow<'_>> {
         let pc = self
             .phys
             .contacts
@@ -1435,30 +1440,40 @@ impl Ctx<'_> {
             return None;
         }
         let closing = -(vel(y, j) - vel(y, i)).dot(&(d / dist));
-        let k = pc
-            .law
-            .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
         Some(PairNow {
             law: &pc.law,
-            k,
-            m_eff: effective_mass(bi.mass, bj.mass),
+            k: law.k,
+            m_eff: law.m_eff,
             overlap: bi.radius + bj.radius - dist,
             closing,
             size: 2.0 * bi.radius.min(bj.radius),
         })
     }
 
-    /// [`HertzLaw::unloading_margin`] of a touching pair.
-    fn pair_unloading(&self, members: &[ShotState], pr: &IslandPair, y: &[f64]) -> f64 {
-        self.pair_now(members, pr, y).map_or(f64::INFINITY, |c| {
+    /// [`HertzLaw::unloading_margin`] of touching pair `q`.
+    fn pair_unloading(
+        &self,
+        members: &[ShotState],
+        pairs: &[IslandPair],
+        q: usize,
+        y: &[f64],
+    ) -> f64 {
+        let pair = (&pairs[q], &self.laws[q]);
+        self.pair_now(members, pair, y).map_or(f64::INFINITY, |c| {
             c.law.unloading_margin(c.k, c.m_eff, c.overlap, c.closing)
         })
     }
 
     /// Whether a touching pair pushes ([`HertzLaw::unloading_margin`] positive) with a
     /// kink that matters to a step of `h` ([`kink_matters`]).
-    fn pair_pushes(&self, members: &[ShotState], pr: &IslandPair, y: &[f64], h: f64) -> bool {
-        let Some(c) = self.pair_now(members, pr, y) else {
+    fn pair_pushes(
+        &self,
+        members: &[ShotState],
+        pair: (&IslandPair, &PairLaw),
+        y: &[f64],
+        h: f64,
+    ) -> bool {
+        let Some(c) = self.pair_now(members, pair, y) else {
             return false;
         };
         let mu = self.phys.contacts.friction.map_or(0.0, |f| f.shot);
@@ -1505,13 +1520,14 @@ impl Ctx<'_> {
             }));
         // Per pair: pushing, and approaching at an impact's speed.
         let flags = |ps: Range<usize>, push: &mut [bool], close: &mut [bool]| {
-            for (k, pr) in pairs[ps].iter().enumerate() {
+            let laws = &self.laws[ps.clone()];
+            for (k, (pr, law)) in pairs[ps].iter().zip(laws).enumerate() {
                 let (i, j) = (pr.a as usize, pr.b as usize);
                 let both = moving(&members[i], t) && moving(&members[j], t);
                 push[k] = pr.touching
                     && t - pr.onset <= 3.0 * pr.contact_time
                     && both
-                    && self.pair_pushes(members, pr, y, h);
+                    && self.pair_pushes(members, (pr, law), y, h);
                 close[k] = !pr.touching && both && pair_gap(members, pr, y) > 0.0 && {
                     let d = pos(y, j) - pos(y, i);
                     -(vel(y, j) - vel(y, i)).dot(&d) >= RAMP_MIN_SPEED * d.norm()
@@ -2062,7 +2078,7 @@ impl Ctx<'_> {
             }
         }
         if let Some(pc) = &c.pair {
-            for pr in pairs {
+            for (pr, law) in pairs.iter().zip(self.laws) {
                 let (i, j) = (pr.a as usize, pr.b as usize);
                 if !moving(&members[i], t) || !moving(&members[j], t) {
                     continue;
@@ -2071,17 +2087,14 @@ impl Ctx<'_> {
                 let dpos = pos(y, j) - pos(y, i);
                 let dist = dpos.norm();
                 if pr.touching {
-                    let k = pc
-                        .law
-                        .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
                     let overlap = bi.radius + bj.radius - dist;
                     cap = cap.min(in_contact(
                         &pc.law,
                         pr.contact_time,
                         pr.onset,
                         overlap,
-                        effective_mass(bi.mass, bj.mass),
-                        k,
+                        law.m_eff,
+                        law.k,
                     ));
                     continue;
                 }
@@ -2090,15 +2103,12 @@ impl Ctx<'_> {
                 }
                 let nrm = dpos / dist;
                 let closing = -(vel(y, j) - vel(y, i)).dot(&nrm);
-                let k = pc
-                    .law
-                    .stiffness(PairContact::effective_radius(bi.radius, bj.radius));
                 cap = cap.min(approach(
                     &pc.law,
                     dist - bi.radius - bj.radius,
                     closing,
-                    effective_mass(bi.mass, bj.mass),
-                    k,
+                    law.m_eff,
+                    law.k,
                     cap,
                 ));
             }
