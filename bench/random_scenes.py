@@ -585,18 +585,19 @@ def fixed_step(r, text, ballistic, keep_duration=False, hybrid=False):
 
 def energy_bound(text):
     """For a scene without air (--ballistic, --vacuum; since session 30): an upper bound on
-    the shots' total energy per unit density at the start, `sum d^3 (v^2 / 2 + g z)`
-    over the shots (pi/6 and the density dropped; every shot of such a scene has the
-    diameter `d` and starts at speed `v`): boxes start at their velocity below the box's
-    top, streams at their entry speed below the inlet's highest point. None for scenes
-    with air. Contacts can only dissipate (restitution at most 1, friction), so the
-    energy at the end must not exceed it beyond the integrator's error."""
+    each shot's energy at the start per unit density and per `d^3` (its diameter
+    cubed), `v^2 / 2 + g z` (pi/6 and the density dropped; every shot of such a scene
+    starts at speed `v`, whatever its size): boxes start at their velocity below the
+    box's top, streams at their entry speed below the inlet's highest point; and `g`.
+    None for scenes with air. The shots' total at the start is at most the bound times
+    `sum d^3` over the shots (their sizes from shots.csv: --sizes draws them). Contacts
+    can only dissipate (restitution at most 1, friction), so the energy at the end must
+    not exceed it beyond the integrator's error."""
     import re
     num = lambda key: float(re.search(rf"^{key} = ([-0-9.e]+)", text, re.M).group(1))
     if "drag = false" not in text:
         return None
     g = num("gravity_m_s2")
-    d = num("diameter_mm") * 1e-3
     if 'type = "box"' in text:
         vel = re.search(r"velocity_m_s = \[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\]", text).groups()
         v2 = sum(float(c) ** 2 for c in vel)
@@ -604,7 +605,7 @@ def energy_bound(text):
     else:
         v2 = num("entry_speed_m_s") ** 2
         top = (num("standoff_mm") + num("length_mm") + num("bore_mm")) * 1e-3
-    return d ** 3 * (0.5 * v2 + g * top), g
+    return 0.5 * v2 + g * top, g
 
 
 def energy_at_end(shots_csv, g):
@@ -651,15 +652,15 @@ def check(binary, path, out, energy):
                     bad.append(f"impact at {v} m/s")
                     break
         # Without air nothing adds energy: the shots end with at most what they started
-        # with (each shot's bound times their count), up to the integrator's error.
+        # with (the bound per d^3 times the shots' d^3), up to the integrator's error.
         with open(path) as f:
             text = f.read()
         bound = energy_bound(text) if energy else None
         if bound is not None:
-            per_shot, g = bound
+            specific, g = bound
             with open(os.path.join(out, "shots.csv")) as f:
-                n = sum(1 for _ in csv.DictReader(f))
-            start, end = per_shot * n, energy_at_end(os.path.join(out, "shots.csv"), g)
+                cubes = sum(float(row["diameter_m"]) ** 3 for row in csv.DictReader(f))
+            start, end = specific * cubes, energy_at_end(os.path.join(out, "shots.csv"), g)
             if end > start * (1.0 + 1e-3):
                 bad.append(f"energy grew: {end / start:.6f} of the bound at the start")
         # No shot ends with its centre through the specimen's surface (the plate z = 0,
