@@ -630,6 +630,13 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
         let names = ticked(rest);
         let key = names.first().cloned().unwrap_or_default();
         let expected: Vec<String> = names.into_iter().skip(1).collect();
+        // A misspelt table's name (`[shotz]`, `[shots.feeed]`) is reported at its header:
+        // the unknown key belongs to the table above it.
+        let where_ = match table.rsplit_once('.') {
+            _ if !here.starts_with('[') || table.rsplit('.').next() != Some(key.as_str()) => where_,
+            Some((parent, _)) => format!("in [{parent}]"),
+            None => "at the top level".to_string(),
+        };
         let hint = validate::did_you_mean(&key, expected.iter().map(|s| s.as_str()))
             .map(|s| format!("; did you mean `{s}`?"))
             .unwrap_or_default();
@@ -676,8 +683,21 @@ fn locate_value(
     line_start: usize,
     column: usize,
 ) -> (usize, usize, usize) {
-    let header = text[line_start..].trim_start().starts_with('[');
-    if !header || !(msg.starts_with("invalid type") || msg.starts_with("invalid value")) {
+    let first = text[line_start..].lines().next().unwrap_or("").trim();
+    if !first.starts_with('[') {
+        return (line, line_start, column);
+    }
+    // An unknown key of such a table: its own line, found by its name (unless the name
+    // is the table's own, misspelt: the error is then the header's).
+    if let Some(rest) = msg.strip_prefix("unknown field ") {
+        let key = rest.split('`').nth(1).unwrap_or("");
+        let table = first.trim_matches(|c| c == '[' || c == ']');
+        if key.is_empty() || table.rsplit('.').next() == Some(key) {
+            return (line, line_start, column);
+        }
+        return find_line(text, (line, line_start, column), |k, _| k.trim() == key);
+    }
+    if !(msg.starts_with("invalid type") || msg.starts_with("invalid value")) {
         return (line, line_start, column);
     }
     let needle = if let Some(i) = msg.find("string \"") {
@@ -689,13 +709,27 @@ fn locate_value(
     let Some(needle) = needle else {
         return (line, line_start, column);
     };
+    find_line(text, (line, line_start, column), |_, value| {
+        value.trim().starts_with(needle.as_str())
+    })
+}
+
+/// The first `key = value` line of the table whose header is at `line` (starting at byte
+/// `line_start`) for which `pick(key, value)` holds: its line, start and column; else the
+/// header's `(line, line_start, column)`.
+fn find_line(
+    text: &str,
+    (line, line_start, column): (usize, usize, usize),
+    pick: impl Fn(&str, &str) -> bool,
+) -> (usize, usize, usize) {
     let mut start = line_start;
     for (k, l) in text[line_start..].lines().enumerate() {
         if k > 0 && l.trim_start().starts_with('[') {
             break;
         }
-        if let Some((_, value)) = l.split_once('=')
-            && value.trim().starts_with(needle.as_str())
+        if let Some((key, value)) = l.split_once('=')
+            && k > 0
+            && pick(key, value)
         {
             let col = l.len() - l.trim_start().len() + 1;
             return (line + k, start, col);
