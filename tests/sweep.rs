@@ -287,6 +287,14 @@ fn bad_sweep_files_get_one_line_errors() {
         e.contains("unknown key `bore`") && e.contains("bore_mm"),
         "{e}"
     );
+    let e = sweep_err(
+        "seed = 3\n[vary]\n\"air.gauge_pressure_mpa\" = [0.3]\n",
+        &[],
+    );
+    assert!(
+        e.contains("unknown key `seed`; did you mean `seeds`?"),
+        "{e}"
+    );
     let e = sweep_err("[vary]\n\"title.x\" = [1]\n", &[]);
     assert!(e.contains("names nothing"), "{e}");
     let e = sweep_err("[vary]\n\"air.gauge_pressure_mpa\" = []\n", &[]);

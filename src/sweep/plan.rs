@@ -152,7 +152,13 @@ impl Plan {
             let msg = e.message().replace('\n', " ");
             let msg = if let Some(rest) = msg.strip_prefix("unknown field ") {
                 let key = rest.split('`').nth(1).unwrap_or("");
-                format!("unknown key `{key}`; allowed: title, base, seeds, combine, names, [vary]")
+                let keys = ["title", "base", "seeds", "combine", "names", "vary"];
+                let hint = crate::scene::validate::did_you_mean(key, keys.into_iter())
+                    .map(|s| format!("did you mean `{s}`? "))
+                    .unwrap_or_default();
+                format!(
+                    "unknown key `{key}`; {hint}allowed: title, base, seeds, combine, names, [vary]"
+                )
             } else if msg.starts_with("missing field `vary`") {
                 "missing [vary] table: name at least one scene key to vary, e.g. \
                  \"air.gauge_pressure_mpa\" = [0.3, 0.6]"
