@@ -609,10 +609,10 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
     let here = text[line_start..].lines().next().unwrap_or("").trim();
     let table = if here.starts_with('[') { here } else { "" };
     let table = std::iter::once(table)
-        .chain(text[..line_start].lines().rev().map(str::trim))
-        .find(|l| l.starts_with('['))
-        .map(|l| l.trim_matches(|c| c == '[' || c == ']').to_string())
-        .unwrap_or_default();
+        .chain(text[..line_start].lines().rev())
+        .find_map(table_name)
+        .unwrap_or_default()
+        .to_string();
     let where_ = if table.is_empty() {
         "at the top level".to_string()
     } else {
@@ -632,8 +632,9 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
         let expected: Vec<String> = names.into_iter().skip(1).collect();
         // A misspelt table's name (`[shotz]`, `[shots.feeed]`) is reported at its header:
         // the unknown key belongs to the table above it.
+        let own = here.starts_with('[') && table.rsplit('.').next() == Some(key.as_str());
         let where_ = match table.rsplit_once('.') {
-            _ if !here.starts_with('[') || table.rsplit('.').next() != Some(key.as_str()) => where_,
+            _ if !own => where_,
             Some((parent, _)) => format!("in [{parent}]"),
             None => "at the top level".to_string(),
         };
@@ -683,15 +684,13 @@ fn locate_value(
     line_start: usize,
     column: usize,
 ) -> (usize, usize, usize) {
-    let first = text[line_start..].lines().next().unwrap_or("").trim();
-    if !first.starts_with('[') {
+    let Some(table) = table_name(text[line_start..].lines().next().unwrap_or("")) else {
         return (line, line_start, column);
-    }
+    };
     // An unknown key of such a table: its own line, found by its name (unless the name
     // is the table's own, misspelt: the error is then the header's).
     if let Some(rest) = msg.strip_prefix("unknown field ") {
         let key = rest.split('`').nth(1).unwrap_or("");
-        let table = first.trim_matches(|c| c == '[' || c == ']');
         if key.is_empty() || table.rsplit('.').next() == Some(key) {
             return (line, line_start, column);
         }
@@ -737,6 +736,17 @@ fn find_line(
         start += l.len() + 1;
     }
     (line, line_start, column)
+}
+
+/// The table a header line (`[shots.feed]`, `[[shots.feed.shots]]`, a comment after it
+/// or not) names; `None` for any other line.
+fn table_name(line: &str) -> Option<&str> {
+    let line = line.trim();
+    if !line.starts_with('[') {
+        return None;
+    }
+    let line = line.split_once('#').map_or(line, |(header, _)| header);
+    Some(line.trim().trim_matches(|c| c == '[' || c == ']').trim())
 }
 
 fn key_on_line(text: &str, line_start: usize) -> String {
