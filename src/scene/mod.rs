@@ -599,7 +599,7 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
     let column = text[line_start..offset].chars().count() + 1;
     // Internally tagged tables (feeds, size distributions) report errors at the table
     // header: find the offending `key = value` line below it by the value in the message.
-    let (line, line_start, column) = locate_value(
+    let (mut line, line_start, mut column) = locate_value(
         text,
         &e.message().replace('\n', " "),
         line,
@@ -647,7 +647,23 @@ fn parse_error(path: &str, text: &str, e: &toml::de::Error) -> SceneError {
         )
     } else if let Some(rest) = msg.strip_prefix("missing field ") {
         let key = ticked(rest).first().cloned().unwrap_or_default();
-        format!("missing key `{key}` {where_}")
+        // A `list` feed's shots are read with the feed (after its `type`): a shot without
+        // its centre is reported at the feed's header, and a feed without its `type`
+        // (the shots' headers made it) at the first shot's. Each is put where it belongs.
+        if key == "position_mm" && table == "shots.feed" {
+            if let Some(at) = list_shot_without(text, "position_mm") {
+                (line, column) = (at, 1);
+            }
+            "missing key `position_mm` in [[shots.feed.shots]]: each listed shot needs its \
+             centre"
+                .to_string()
+        } else if key == "type" && table == "shots.feed.shots" {
+            "missing key `type` in [shots.feed] (`type = \"list\"` for shots listed one by \
+             one)"
+                .to_string()
+        } else {
+            format!("missing key `{key}` {where_}")
+        }
     } else if msg.starts_with("unknown variant") {
         let names = ticked(&msg);
         let got = names.first().cloned().unwrap_or_default();
@@ -736,6 +752,25 @@ fn find_line(
         start += l.len() + 1;
     }
     (line, line_start, column)
+}
+
+/// The line number of the first `[[shots.feed.shots]]` header of `text` whose table has
+/// no `key = ...` line.
+fn list_shot_without(text: &str, key: &str) -> Option<usize> {
+    let mut open = None;
+    for (k, l) in text.lines().enumerate() {
+        if let Some(name) = table_name(l) {
+            if open.is_some() {
+                break;
+            }
+            if l.trim_start().starts_with("[[") && name == "shots.feed.shots" {
+                open = Some(k + 1);
+            }
+        } else if open.is_some() && l.split_once('=').is_some_and(|(k, _)| k.trim() == key) {
+            open = None;
+        }
+    }
+    open
 }
 
 /// The table a header line (`[shots.feed]`, `[[shots.feed.shots]]`, a comment after it
