@@ -342,7 +342,8 @@ def liggghts(tmp):
     open(fric_scene, "w").write(text.replace("[effects]", matched + fric + "[effects]"))
     # LIGGGHTS' own contact model and integrator: its tangential law (history), velocity
     # Verlet at its 20 ns step, on the event scheduler (free flight in closed form, each
-    # contact stepped; docs/performance.md, session 43).
+    # contact stepped; docs/performance-history.md, "The fixed-step method on the event
+    # scheduler, session 43").
     hist_scene = os.path.join(tmp, "pack_history_events.toml")
     open(hist_scene, "w").write(text.replace(
         "[effects]", HISTORY_EVENTS + fric + 'tangential = "history"\n[effects]'))

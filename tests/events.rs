@@ -628,7 +628,9 @@ fn the_give_up_suggests_a_fiftieth_of_the_fastest_contact_time_as_fixed_step() {
 /// A stream in vacuum (no air, no nozzle wall contact) runs on the event scheduler on
 /// auto: a stream's shots wait at their entry points one after the other, which is not
 /// a pile. Until session 29 `auto` took them as shots starting in contact and ran the
-/// window scheduler, about ten times slower on a 10,000-shot stream (docs/performance.md).
+/// window scheduler, about ten times slower on a 10,000-shot stream
+/// (docs/performance-history.md, "Streams in vacuum on the event scheduler, and the pile
+/// check on the latest steps, session 29").
 /// Fed through a nozzle tilted at 45 degrees, slowly enough that a rebound is gone
 /// before the next shot lands, the shots never meet, and the event scheduler's
 /// impacts are the window scheduler's, shot by shot, within the tolerance's reach.
