@@ -2,7 +2,7 @@
 """peenflow benchmarks (never run as tests; numbers go to docs/performance.md).
 
 usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggghts-feed] [--liggghts-pile]
-                             [--effects]
+                             [--effects] [--instructions]
                              [--check-matched 'KEY = VALUE; ...']
 
   default     benchmarks (a)-(d) at 1 and 2 threads: wall time, particle-steps/s,
@@ -27,6 +27,12 @@ usage: python3 bench/bench.py [--quick] [--liggghts] [--liggghts-scale] [--liggg
               same column height and duration, a wider column; three interleaved rounds,
               the fastest run of each counts, with and without friction 0.3 (about 3
               minutes)
+  --instructions  instructions executed (valgrind's callgrind, one thread) by five cuts that
+              track the hot paths: the matched pack (stream.in at tolerance 1e-4), the
+              nozzle stream's first 60 ms, the pile on velocity Verlet at 20 ns cut to
+              0.05 ms, the spur gear example and the default scene; with each run's work
+              counts. The machine's noise does not reach them: the measure to compare
+              builds by (needs valgrind; about 3 minutes after the build)
   --liggghts-pile  the agitated dense pile (bench/scenes/pile_3k.toml, bench/liggghts/pile.in:
               3,000 shots piling up on an elastic specimen, 2 ms) in LIGGGHTS and in
               peenflow (auto: the event scheduler, which gives up on the pile, then windows;
@@ -507,9 +513,62 @@ def liggghts_pile(tmp):
     sys.stdout.flush()
 
 
+def cut(text, duration_ms, integrator=""):
+    """Scene `text` with its top-level `duration_ms` set to `duration_ms` and the
+    `[integrator]` keys `integrator` (lines) put first in its `[integrator]` table (one is
+    added before `[effects]` if it has none)."""
+    text = re.sub(r"(?m)^duration_ms = .*$", f"duration_ms = {duration_ms}", text, count=1)
+    if integrator:
+        if "[integrator]\n" in text:
+            text = text.replace("[integrator]\n", "[integrator]\n" + integrator, 1)
+        else:
+            text = text.replace("[effects]", "[integrator]\n" + integrator + "[effects]", 1)
+    return text
+
+
+def instructions(tmp):
+    """Instructions of five cuts under callgrind (`--instructions`, module docs)."""
+    if shutil.which("valgrind") is None:
+        usage_error("--instructions needs valgrind (apt-get install -y valgrind)")
+    read = lambda name: open(os.path.join(SCENES, name)).read()
+    pack = read("pack_stream_10k.toml").replace("[effects]", MATCHED + "[effects]", 1)
+    cases = [
+        ("matched pack: stream.in, 10,000 shots, tolerance 1e-4", pack),
+        ("nozzle stream of 10,000 shots, first 60 ms", cut(read("stream_10k.toml"), 60.0)),
+        ("pile of 3,000 shots on velocity Verlet at 20 ns, first 0.05 ms",
+         cut(read("pile_3k.toml"), 0.05, 'method = "verlet"\nfixed_step_ns = 20\n')),
+        ("spur gear example (examples/spur_gear.toml)",
+         open(os.path.join(ROOT, "examples", "spur_gear.toml")).read()),
+        ("default scene (the paper's Table 2)", None),
+    ]
+    print("| run (one thread, `valgrind --tool=callgrind`) | instructions | shot-steps | right-hand sides | contacts | clusters |")
+    print("|---|---|---|---|---|---|")
+    for k, (name, text) in enumerate(cases):
+        cmd = [BIN, "run"]
+        if text is not None:
+            path = os.path.join(tmp, f"instructions_{k}.toml")
+            open(path, "w").write(text)
+            cmd.append(path)
+        out = os.path.join(tmp, f"instructions_{k}")
+        cmd += ["--out", out, "--force", "-q", "-j", "1"]
+        grind = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}.cg"]
+        p = subprocess.run(grind + cmd, cwd=tmp, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if p.returncode not in (0, 1):
+            sys.exit(f"{' '.join(grind + cmd)} failed:\n{p.stderr}")
+        refs = re.search(r"Collected : (\d+)", p.stderr)
+        if refs is None:
+            sys.exit(f"no instruction count in valgrind's output:\n{p.stderr}")
+        s = json.load(open(os.path.join(out, "summary.json")))
+        contacts = sum(s["contacts"][c] for c in ("shot_specimen", "shot_shot", "shot_wall"))
+        clusters = s["work"].get("clusters", 0)
+        print(f"| {name} | {int(refs.group(1)) / 1e9:.3f} G | {s['steps']['shot_steps']:,} "
+              f"| {s['work']['rhs_evaluations']:,} | {contacts:,} | {clusters:,} |")
+        sys.stdout.flush()
+
+
 def main():
     argv = options(__doc__, ("--quick", "--liggghts", "--liggghts-scale", "--liggghts-feed",
-                             "--liggghts-pile", "--effects"), ("--check-matched",))
+                             "--liggghts-pile", "--effects", "--instructions"), ("--check-matched",))
     check = None
     if "--check-matched" in argv:
         i = argv.index("--check-matched")
@@ -532,6 +591,8 @@ def main():
             liggghts_pile(tmp)
         if "--effects" in args:
             effects(tmp)
+        if "--instructions" in args:
+            instructions(tmp)
         if not args - {"--quick"}:
             benchmarks(tmp, "--quick" in args)
 
