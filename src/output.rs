@@ -83,6 +83,24 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<(), OutputError> {
     Ok(())
 }
 
+/// Prepares the output directory `dir` ([`prepare_dir`]) and runs `f`; if `f` fails
+/// and `dir` was created for it and is still empty, removes it again, so that a command
+/// refused after reading its input leaves nothing behind.
+pub fn with_dir<T, E: From<OutputError>>(
+    dir: &Path,
+    force: bool,
+    f: impl FnOnce() -> Result<T, E>,
+) -> Result<T, E> {
+    let created = !dir.exists();
+    prepare_dir(dir, force)?;
+    let result = f();
+    if result.is_err() && created {
+        // Fails, as it should, if anything was written.
+        let _ = fs::remove_dir(dir);
+    }
+    result
+}
+
 /// Writes `bytes` to `path` atomically (temporary file in the same directory, then rename).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let tmp = temp_name(path);
@@ -319,7 +337,9 @@ impl RunWriter {
         Ok(RunWriter {
             impacts_csv: CsvStream::create(&dir.join("impacts.csv"), IMPACT_HEADER)?,
             shots_csv: CsvStream::create(&dir.join("shots.csv"), SHOT_HEADER)?,
-            h5: crate::export::hdf5::ImpactStream::create(&dir.join("impacts.h5"))?,
+            h5: crate::export::hdf5::ImpactStream::create(
+                &dir.join(crate::export::hdf5::IMPACT_FILE),
+            )?,
             dir: dir.to_path_buf(),
             error: None,
         })

@@ -47,6 +47,32 @@ fn export_bad_input_gets_one_line_and_no_output() {
         &["export", "corrupt.h5", "-f", "vtk", "-o", "bad"],
         "corrupt.h5: cannot read impacts: not a readable HDF5 file",
     );
+    // A run's directory, or its CSV, for its impact file: the message names the file.
+    let h5 = Path::new("run").join("impacts.h5").display().to_string();
+    fails_cleanly(
+        t,
+        &["export", "run", "-f", "vtk", "-o", "bad"],
+        &format!("run: cannot read impacts: is a directory; pass the run's impact file, {h5}"),
+    );
+    let csv = Path::new("run").join("impacts.csv").display().to_string();
+    let o = peenflow(&["coverage", &csv, "--out", "bad"], t);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{csv}: cannot read impacts: not a readable HDF5 file"
+        )) && stderr
+            .trim_end()
+            .ends_with(&format!("; the run's impact file is {h5}")),
+        "{stderr}"
+    );
+    assert!(!t.join("bad").exists());
+    fails_cleanly(
+        t,
+        &["export", ".", "-f", "vtk", "-o", "bad"],
+        ".: cannot read impacts: is a directory, not an impact file (a run's impacts.h5)",
+    );
     for (flag, value, expected) in [
         (
             "--window",

@@ -214,7 +214,7 @@ fn run_scene(a: RunArgs) -> Result<()> {
             out: a.out.clone(),
             force: true,
         };
-        let h5 = a.out.join("impacts.h5");
+        let h5 = a.out.join(crate::export::hdf5::IMPACT_FILE);
         let impacts = crate::export::hdf5::read(&h5)?.impacts;
         exported = export::export(&impacts, &scene, &h5.display().to_string(), &req)?;
     }
@@ -644,14 +644,15 @@ fn coverage(a: CoverageArgs) -> Result<()> {
         }
     }
     if let Some(turning) = gear {
-        output::prepare_dir(&a.out, a.force)?;
-        let r = crate::coverage::output::run_gear(&crate::coverage::output::GearRequest {
-            impacts: a.impacts.clone(),
-            target,
-            dent,
-            out: a.out.clone(),
-            turning,
-            rpm: a.gear_rpm,
+        let r = output::with_dir(&a.out, a.force, || {
+            crate::coverage::output::run_gear(&crate::coverage::output::GearRequest {
+                impacts: a.impacts.clone(),
+                target,
+                dent,
+                out: a.out.clone(),
+                turning,
+                rpm: a.gear_rpm,
+            })
         })?;
         print_gear(&r);
         return Ok(());
@@ -663,17 +664,18 @@ fn coverage(a: CoverageArgs) -> Result<()> {
             many.len()
         ),
     };
-    output::prepare_dir(&a.out, a.force)?;
-    let r = crate::coverage::output::run(&crate::coverage::output::Request {
-        impacts,
-        window,
-        cell: a.cell_um.map(|c| c * 1e-6),
-        target,
-        out: a.out.clone(),
-        update_h5: !a.no_h5,
-        seed: a.seed,
-        traverse,
-        dent,
+    let r = output::with_dir(&a.out, a.force, || {
+        crate::coverage::output::run(&crate::coverage::output::Request {
+            impacts,
+            window,
+            cell: a.cell_um.map(|c| c * 1e-6),
+            target,
+            out: a.out.clone(),
+            update_h5: !a.no_h5,
+            seed: a.seed,
+            traverse,
+            dent,
+        })
     })?;
     let c = &r.coverage;
     if r.seed.1 > 1 {

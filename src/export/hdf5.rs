@@ -762,6 +762,9 @@ pub struct ImpactFile {
     pub seeds: Vec<u64>,
 }
 
+/// The name of a run's impact file in its output directory.
+pub const IMPACT_FILE: &str = "impacts.h5";
+
 /// Reads an impact file written by [`write()`].
 pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
     let shown = path.display().to_string();
@@ -772,7 +775,24 @@ pub fn read(path: &Path) -> Result<ImpactFile, H5Error> {
     if !path.exists() {
         return Err(err("no such file".into()));
     }
-    let file = H5File::open(path).map_err(|e| err(format!("not a readable HDF5 file ({e})")))?;
+    // A run's directory, or another of its files (impacts.csv), for its impact file: name
+    // the file meant.
+    let run_file = |p: std::path::PathBuf| p.is_file().then(|| p.display().to_string());
+    if path.is_dir() {
+        return Err(err(match run_file(path.join(IMPACT_FILE)) {
+            Some(f) => format!("is a directory; pass the run's impact file, {f}"),
+            None => format!("is a directory, not an impact file (a run's {IMPACT_FILE})"),
+        }));
+    }
+    let file = H5File::open(path).map_err(|e| {
+        let beside = path.file_name().is_some_and(|n| n != IMPACT_FILE);
+        err(
+            match run_file(path.with_file_name(IMPACT_FILE)).filter(|_| beside) {
+                Some(f) => format!("not a readable HDF5 file ({e}); the run's impact file is {f}"),
+                None => format!("not a readable HDF5 file ({e})"),
+            },
+        )
+    })?;
     let format = file
         .attr_string("format")
         .map_err(|_| err("no `format` attribute: not written by peenflow".into()))?;

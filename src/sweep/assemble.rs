@@ -46,7 +46,7 @@ pub fn assemble(dir: &Path) -> Result<(), SweepRunError> {
         let cdir = dir.join(&c.name);
         match CaseResult::read(&cdir) {
             Some(r) if r.hash == c.hash => {
-                let f = h5::read(&cdir.join("impacts.h5"))?;
+                let f = h5::read(&cdir.join(h5::IMPACT_FILE))?;
                 cases.push(Finished {
                     result: r,
                     impacts: f.impacts,

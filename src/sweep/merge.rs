@@ -75,7 +75,9 @@ pub fn merge(
     for c in &manifest.cases {
         let finished = |d: &Path| {
             CaseResult::read(&d.join(&c.name)).is_some_and(|r| r.hash == c.hash)
-                && d.join(&c.name).join("impacts.h5").is_file()
+                && d.join(&c.name)
+                    .join(crate::export::hdf5::IMPACT_FILE)
+                    .is_file()
         };
         if finished(&out) {
             continue;

@@ -297,7 +297,9 @@ pub fn run(
     for c in &cases {
         let here = dir.join(&c.name);
         match CaseResult::read(&here) {
-            Some(r) if r.hash == c.hash && here.join("impacts.h5").is_file() => {
+            Some(r)
+                if r.hash == c.hash && here.join(crate::export::hdf5::IMPACT_FILE).is_file() =>
+            {
                 report.skipped.push(c.name.clone())
             }
             Some(_) => {
@@ -477,7 +479,7 @@ fn write_case(
     let wall: f64 = runs.iter().map(|r| r.2.wall_time_s).sum();
     let pooled_summary = Summary::pooled(&scene, &effects.decisions, &pooled, wall, 1, runs.len());
     h5::write(
-        &tmp.join("impacts.h5"),
+        &tmp.join(crate::export::hdf5::IMPACT_FILE),
         &h5::ImpactFileData {
             head: h5::FileHead {
                 scene_text: &case.scene_text,
